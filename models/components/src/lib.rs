@@ -1,0 +1,1 @@
+//! Lumped-parameter elements (work in progress)

@@ -1,0 +1,1 @@
+//! RlcCircuit (work in progress)
