@@ -1,1 +1,418 @@
-fn main() {}
+//! `build-fmus`: builds every model crate of the workspace and packages each as
+//! `dist/<ModelIdentifier>.fmu` (FMI 2.0 Co-Simulation).
+//!
+//! The steps, one module each:
+//! 1. [`discover`]: find the workspace root and the model crates (members under `models/`
+//!    whose `[lib] crate-type` has `cdylib`);
+//! 2. [`cargo`]: build all their libraries with one `cargo build --release --lib -p ...`;
+//! 3. [`extract`]: load each library and copy out its modelIdentifier, modelDescription.xml
+//!    and documentation page, which `fmu_runtime::export_fmu!` exports;
+//! 4. [`package`]: zip them with the library into a deterministic `.fmu`.
+//!
+//! Run it with `cargo run --release -p build-fmus` from anywhere in the workspace.
+
+mod cargo;
+mod discover;
+mod extract;
+mod package;
+
+use std::collections::BTreeMap;
+use std::ffi::OsString;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use discover::ModelCrate;
+
+const USAGE: &str = "\
+build-fmus: builds every model crate and packages <out>/<ModelIdentifier>.fmu (FMI 2.0 CS)
+
+Usage: cargo run --release -p build-fmus [-- OPTIONS]
+
+Options:
+  --out DIR          write the .fmu files to DIR (default: <workspace>/dist)
+  --only NAME        package only this model: its package name (rlc-circuit) or its
+                     modelIdentifier (RlcCircuit); repeat to select several
+  --workspace DIR    the workspace root (default: the workspace this tool belongs to,
+                     else the one around the current directory)
+  -h, --help         print this help and exit
+
+Model crates are the workspace members under models/ whose [lib] crate-type has
+\"cdylib\". They are built by one `cargo build --release --lib -p ...` ($CARGO and
+$CARGO_TARGET_DIR are honoured); each library is then loaded to read its
+modelDescription.xml and documentation, and zipped with them into the FMU:
+  modelDescription.xml, binaries/linux64/<ModelIdentifier>.so, documentation/index.html
+";
+
+/// The parsed command line.
+#[derive(Debug, Default, PartialEq, Eq)]
+struct Options {
+    out: Option<PathBuf>,
+    only: Vec<String>,
+    workspace: Option<PathBuf>,
+    help: bool,
+}
+
+/// Parses the arguments after the program name. `--opt VALUE` and `--opt=VALUE` both work.
+fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Options, String> {
+    let mut opts = Options::default();
+    let mut args = args.into_iter();
+    while let Some(arg) = args.next() {
+        let text = arg
+            .to_str()
+            .ok_or_else(|| format!("argument {arg:?} is not UTF-8"))?
+            .to_owned();
+        let (flag, inline) = match text.split_once('=') {
+            Some((f, v)) if f.starts_with("--") => (f.to_owned(), Some(OsString::from(v))),
+            _ => (text.clone(), None),
+        };
+        let mut value = |name: &str| -> Result<OsString, String> {
+            inline
+                .clone()
+                .or_else(|| args.next())
+                .filter(|v| !v.is_empty())
+                .ok_or_else(|| format!("{name} needs a value"))
+        };
+        match flag.as_str() {
+            "-h" | "--help" => opts.help = true,
+            "--out" => opts.out = Some(value("--out")?.into()),
+            "--workspace" => opts.workspace = Some(value("--workspace")?.into()),
+            "--only" => {
+                let name = value("--only")?;
+                let name = name
+                    .into_string()
+                    .map_err(|n| format!("--only {n:?} is not UTF-8"))?;
+                opts.only.push(name);
+            }
+            _ => return Err(format!("unknown argument `{text}`")),
+        }
+    }
+    Ok(opts)
+}
+
+/// Names compared loosely: case, `-` and `_` do not matter, so `rlc-circuit`,
+/// `rlc_circuit` and `RlcCircuit` are one name.
+fn loose(name: &str) -> String {
+    name.chars()
+        .filter(|c| *c != '-' && *c != '_')
+        .flat_map(char::to_lowercase)
+        .collect()
+}
+
+/// Which models `--only` selects before anything is built.
+struct Selection {
+    /// Models to build.
+    build: Vec<ModelCrate>,
+    /// Models chosen by package or lib name (packaged whatever their identifier).
+    by_crate: Vec<String>,
+    /// `--only` names that name no crate: perhaps a modelIdentifier, known only after the
+    /// build. When there are any, every model is built.
+    by_identifier: Vec<String>,
+}
+
+fn select(models: &[ModelCrate], only: &[String]) -> Selection {
+    if only.is_empty() {
+        return Selection {
+            build: models.to_vec(),
+            by_crate: models.iter().map(|m| m.package.clone()).collect(),
+            by_identifier: Vec::new(),
+        };
+    }
+    let mut by_crate = Vec::new();
+    let mut by_identifier = Vec::new();
+    for name in only {
+        let hits: Vec<&ModelCrate> = models
+            .iter()
+            .filter(|m| loose(&m.package) == loose(name) || loose(&m.lib_name) == loose(name))
+            .collect();
+        if hits.is_empty() {
+            by_identifier.push(name.clone());
+        }
+        by_crate.extend(hits.into_iter().map(|m| m.package.clone()));
+    }
+    let build = if by_identifier.is_empty() {
+        models
+            .iter()
+            .filter(|m| by_crate.contains(&m.package))
+            .cloned()
+            .collect()
+    } else {
+        models.to_vec()
+    };
+    Selection {
+        build,
+        by_crate,
+        by_identifier,
+    }
+}
+
+/// `path` relative to the current directory when it lies below it.
+fn shown(path: &Path) -> String {
+    let cwd = std::env::current_dir().ok();
+    let rel = cwd.as_deref().and_then(|c| path.strip_prefix(c).ok());
+    match rel {
+        Some(r) if !r.as_os_str().is_empty() => r.display().to_string(),
+        _ => path.display().to_string(),
+    }
+}
+
+/// Builds, extracts and packages; returns the error that stops the run, or the number of
+/// models that failed.
+fn run(opts: &Options) -> Result<usize, String> {
+    let started = Instant::now();
+    let cargo_program = cargo::cargo_program();
+    let root = match &opts.workspace {
+        Some(dir) => {
+            if !discover::is_workspace_root(dir) {
+                return Err(format!(
+                    "{} has no Cargo.toml with a [workspace] table",
+                    dir.display()
+                ));
+            }
+            fs::canonicalize(dir).unwrap_or_else(|_| dir.clone())
+        }
+        None => discover::workspace_root(&cargo_program)?,
+    };
+    let models = discover::discover_models(&root)?;
+    if models.is_empty() {
+        return Err(format!(
+            "no model crates in {}: none of the workspace members under models/ has \
+             crate-type \"cdylib\"",
+            root.display()
+        ));
+    }
+    let selection = select(&models, &opts.only);
+    let target_dir = cargo::target_dir(&root);
+    cargo::build(&cargo_program, &root, &target_dir, &selection.build)?;
+
+    // Created only when the first FMU is ready, so a run that fails leaves nothing behind.
+    let out_dir = opts.out.clone().unwrap_or_else(|| root.join("dist"));
+
+    let mut failed = 0;
+    let mut written = 0;
+    let mut unmatched = selection.by_identifier.clone();
+    let mut identifiers: BTreeMap<String, String> = BTreeMap::new(); // identifier -> package
+    for model in &selection.build {
+        let lib_path = cargo::library_path(&target_dir, &model.lib_name);
+        let info = match extract::extract(&lib_path, &model.package) {
+            Ok(info) => info,
+            Err(e) => {
+                eprintln!("error: {e}");
+                failed += 1;
+                continue;
+            }
+        };
+        let chosen_by_id: Vec<String> = selection
+            .by_identifier
+            .iter()
+            .filter(|n| loose(n) == loose(&info.identifier))
+            .cloned()
+            .collect();
+        unmatched.retain(|n| !chosen_by_id.contains(n));
+        if !selection.by_crate.contains(&model.package) && chosen_by_id.is_empty() {
+            continue;
+        }
+        if let Some(other) = identifiers.insert(info.identifier.clone(), model.package.clone()) {
+            eprintln!(
+                "error: {} and {other} both have modelIdentifier {}; each FMU needs its own",
+                model.package, info.identifier
+            );
+            failed += 1;
+            continue;
+        }
+        match package_one(&out_dir, &lib_path, &info) {
+            Ok((path, size)) => {
+                written += 1;
+                println!(
+                    "  {:<20}{}  ({} kB, {} variables)",
+                    info.identifier,
+                    shown(&path),
+                    size.div_ceil(1000),
+                    info.variable_count()
+                );
+            }
+            Err(e) => {
+                eprintln!("error: {}: {e}", model.package);
+                failed += 1;
+            }
+        }
+    }
+    if !unmatched.is_empty() {
+        let known: Vec<String> = models.iter().map(|m| m.package.clone()).collect();
+        eprintln!(
+            "error: --only {} matched no model (packages: {}; a modelIdentifier works too)",
+            unmatched.join(", "),
+            known.join(", ")
+        );
+        failed += unmatched.len();
+    }
+    println!(
+        "Packaged {written} FMU{} into {} in {:.1} s{}",
+        if written == 1 { "" } else { "s" },
+        shown(&out_dir),
+        started.elapsed().as_secs_f64(),
+        if failed > 0 {
+            format!("; {failed} failed")
+        } else {
+            String::new()
+        }
+    );
+    Ok(failed)
+}
+
+/// Zips one model into `<out_dir>/<identifier>.fmu` (creating `out_dir` if needed);
+/// returns its path and size.
+fn package_one(
+    out_dir: &Path,
+    lib_path: &Path,
+    info: &extract::ModelInfo,
+) -> Result<(PathBuf, u64), String> {
+    fs::create_dir_all(out_dir)
+        .map_err(|e| format!("could not create {}: {e}", out_dir.display()))?;
+    let binary =
+        fs::read(lib_path).map_err(|e| format!("could not read {}: {e}", lib_path.display()))?;
+    let path = out_dir.join(format!("{}.fmu", info.identifier));
+    let size = package::write_fmu(
+        &path,
+        &package::FmuContents {
+            identifier: &info.identifier,
+            model_description: info.description.as_bytes(),
+            binary: &binary,
+            documentation: info.documentation.as_bytes(),
+        },
+    )?;
+    Ok((path, size))
+}
+
+fn main() -> ExitCode {
+    let opts = match parse_args(std::env::args_os().skip(1)) {
+        Ok(opts) => opts,
+        Err(e) => {
+            eprintln!("error: {e}\n\n{USAGE}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if opts.help {
+        print!("{USAGE}");
+        return ExitCode::SUCCESS;
+    }
+    match run(&opts) {
+        Ok(0) => ExitCode::SUCCESS,
+        Ok(_) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Helpers shared by the unit tests.
+#[cfg(test)]
+mod testutil {
+    use std::path::{Path, PathBuf};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// A fresh directory under the system temp dir, removed on drop.
+    pub struct TempDir(PathBuf);
+
+    impl TempDir {
+        pub fn new(tag: &str) -> TempDir {
+            static NEXT: AtomicUsize = AtomicUsize::new(0);
+            let n = NEXT.fetch_add(1, Ordering::Relaxed);
+            let dir = std::env::temp_dir()
+                .join(format!("build-fmus-test-{tag}-{}-{n}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&dir);
+            std::fs::create_dir_all(&dir).unwrap();
+            TempDir(dir)
+        }
+
+        pub fn path(&self) -> &Path {
+            &self.0
+        }
+    }
+
+    impl Drop for TempDir {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(a: &[&str]) -> Result<Options, String> {
+        parse_args(a.iter().map(OsString::from))
+    }
+
+    fn model(package: &str) -> ModelCrate {
+        ModelCrate {
+            package: package.into(),
+            lib_name: package.replace('-', "_"),
+            dir: PathBuf::from("/ws/models").join(package),
+        }
+    }
+
+    #[test]
+    fn parses_the_options() {
+        assert_eq!(args(&[]).unwrap(), Options::default());
+        let o = args(&[
+            "--out",
+            "/tmp/x",
+            "--only",
+            "rlc-circuit",
+            "--only=MotorFan",
+            "--workspace=/ws",
+        ])
+        .unwrap();
+        assert_eq!(o.out, Some(PathBuf::from("/tmp/x")));
+        assert_eq!(o.only, ["rlc-circuit", "MotorFan"]);
+        assert_eq!(o.workspace, Some(PathBuf::from("/ws")));
+        assert!(args(&["-h"]).unwrap().help);
+        assert!(args(&["--help"]).unwrap().help);
+        assert!(args(&["--out"])
+            .unwrap_err()
+            .contains("--out needs a value"));
+        assert!(args(&["--only="])
+            .unwrap_err()
+            .contains("--only needs a value"));
+        assert!(args(&["--bogus"])
+            .unwrap_err()
+            .contains("unknown argument `--bogus`"));
+        assert!(args(&["stray"]).unwrap_err().contains("unknown argument"));
+    }
+
+    #[test]
+    fn loose_names_match_across_spellings() {
+        assert_eq!(loose("rlc-circuit"), loose("RlcCircuit"));
+        assert_eq!(loose("rlc_circuit"), loose("RLC-Circuit"));
+        assert_ne!(loose("rlc-circuit"), loose("motor-fan"));
+    }
+
+    #[test]
+    fn only_selects_by_crate_name_or_defers_to_the_identifier() {
+        let models = [
+            model("motor-fan"),
+            model("rlc-circuit"),
+            model("shaft-line"),
+        ];
+
+        let all = select(&models, &[]);
+        assert_eq!(all.build.len(), 3);
+        assert!(all.by_identifier.is_empty());
+
+        // Names that match crates build only those crates.
+        let s = select(&models, &["rlc-circuit".into(), "MotorFan".into()]);
+        let built: Vec<_> = s.build.iter().map(|m| m.package.as_str()).collect();
+        assert_eq!(built, ["motor-fan", "rlc-circuit"]);
+        assert!(s.by_identifier.is_empty());
+
+        // A name matching no crate may be a modelIdentifier: everything is built.
+        let s = select(&models, &["rlc-circuit".into(), "Propeller".into()]);
+        assert_eq!(s.build.len(), 3);
+        assert_eq!(s.by_crate, ["rlc-circuit"]);
+        assert_eq!(s.by_identifier, ["Propeller"]);
+    }
+}

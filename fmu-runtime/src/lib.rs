@@ -1,1 +1,46 @@
-//! FMI 2.0 runtime (work in progress)
+//! FMI 2.0 runtime: everything that is the same for every FMU, and nothing about motors.
+//!
+//! A model author implements [`Model`] in plain Rust — declarations, derivatives, outputs —
+//! and writes `fmu_runtime::export_fmu!(MyModel);`. The runtime supplies the rest: every
+//! fmi2 function with the state machine enforced ([`lifecycle`]), the variable stores and their
+//! checks ([`instance`]), the ODE solver ([`integrate`]), FMU state save/restore/serialize
+//! ([`state`]), and the generated modelDescription.xml ([`description`]) and documentation.
+//!
+//! ```ignore
+//! use fmu_runtime::prelude::*;
+//! pub struct Decay { rate: Parameter, x: State, y: Output }
+//! impl Model for Decay {
+//!     fn info() -> ModelInfo { /* name, description, default experiment, solver, docs */ }
+//!     fn declare(d: &mut Declarations) -> Self {
+//!         Decay {
+//!             rate: d.parameter("rate", 2.0, "Hz").min(0.0).describe("decay rate"),
+//!             x: d.state("x", 1.0, "1").describe("amount"),
+//!             y: d.output("y", "1").describe("amount, observed"),
+//!         }
+//!     }
+//!     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) { der[self.x] = -k[self.rate] * k[self.x]; }
+//!     fn outputs(&self, k: &Knowns, out: &mut Outputs) { out[self.y] = k[self.x]; }
+//! }
+//! fmu_runtime::export_fmu!(Decay);
+//! ```
+pub mod description;
+pub mod documentation;
+pub mod fmi2;
+pub mod instance;
+pub mod integrate;
+pub mod lifecycle;
+pub mod log;
+pub mod model;
+pub mod state;
+pub mod units;
+pub mod values;
+pub mod variables;
+
+pub use model::{DefaultExperiment, Model, ModelInfo, Solver};
+
+/// Everything a model crate needs, in one import.
+pub mod prelude {
+    pub use crate::model::{DefaultExperiment, Model, ModelInfo, Solver};
+    pub use crate::values::{Derivatives, Knowns, Outputs};
+    pub use crate::variables::{BooleanParameter, Declarations, Input, IntegerParameter, Local, Output, Parameter, State};
+}

@@ -1,0 +1,216 @@
+//! Writing an `.fmu`: a deterministic zip of the description, the binary and the docs.
+//!
+//! The archive holds exactly three entries, always in this order:
+//!
+//! ```text
+//! modelDescription.xml
+//! binaries/<platform>/<modelIdentifier>.<so|dylib|dll>
+//! documentation/index.html
+//! ```
+//!
+//! Every entry is deflated, dated 1980-01-01 00:00:00 (the zip format's earliest date) and
+//! marked as made on Unix with fixed permissions, so the same inputs give the same bytes.
+//! The archive is written to a temporary file beside the target and renamed over it, so a
+//! failed build never leaves a half-written `.fmu`.
+
+use std::fs;
+use std::io::{Cursor, Write};
+use std::path::{Path, PathBuf};
+
+use zip::write::SimpleFileOptions;
+use zip::{CompressionMethod, DateTime, ZipWriter};
+
+/// What goes into one FMU.
+#[derive(Debug, Clone, Copy)]
+pub struct FmuContents<'a> {
+    /// The modelIdentifier; names the binary entry.
+    pub identifier: &'a str,
+    /// modelDescription.xml.
+    pub model_description: &'a [u8],
+    /// The built shared library.
+    pub binary: &'a [u8],
+    /// documentation/index.html.
+    pub documentation: &'a [u8],
+}
+
+/// The FMI 2.0 name of the platform this tool was built for (`linux64`), which is the
+/// platform cargo builds the models for, and its shared-library extension; `None` where
+/// FMI 2.0 names no such platform.
+pub fn platform() -> Option<(&'static str, &'static str)> {
+    match (std::env::consts::OS, std::env::consts::ARCH) {
+        ("linux", "x86_64") => Some(("linux64", "so")),
+        ("linux", "x86") => Some(("linux32", "so")),
+        ("macos", "x86_64" | "aarch64") => Some(("darwin64", "dylib")),
+        ("windows", "x86_64") => Some(("win64", "dll")),
+        ("windows", "x86") => Some(("win32", "dll")),
+        _ => None,
+    }
+}
+
+/// The entry names of an FMU for `identifier`, in archive order.
+pub fn entry_names(identifier: &str) -> Result<[String; 3], String> {
+    let (dir, ext) = platform().ok_or_else(|| {
+        format!(
+            "FMI 2.0 defines no binaries/ folder for {}-{}",
+            std::env::consts::OS,
+            std::env::consts::ARCH
+        )
+    })?;
+    Ok([
+        "modelDescription.xml".to_owned(),
+        format!("binaries/{dir}/{identifier}.{ext}"),
+        "documentation/index.html".to_owned(),
+    ])
+}
+
+/// The archive's bytes.
+pub fn fmu_bytes(contents: &FmuContents) -> Result<Vec<u8>, String> {
+    let names = entry_names(contents.identifier)?;
+    let data = [
+        contents.model_description,
+        contents.binary,
+        contents.documentation,
+    ];
+    let base = SimpleFileOptions::default()
+        .compression_method(CompressionMethod::Deflated)
+        .compression_level(Some(9))
+        .last_modified_time(DateTime::default())
+        .system(zip::System::Unix);
+    let zip_err = |e: zip::result::ZipError| format!("could not write the zip archive: {e}");
+    let mut zip = ZipWriter::new(Cursor::new(Vec::new()));
+    for (i, (name, bytes)) in names.iter().zip(data).enumerate() {
+        let mode = if i == 1 { 0o755 } else { 0o644 };
+        zip.start_file(name.as_str(), base.unix_permissions(mode))
+            .map_err(zip_err)?;
+        zip.write_all(bytes)
+            .map_err(|e| format!("could not write the zip archive: {e}"))?;
+    }
+    Ok(zip.finish().map_err(zip_err)?.into_inner())
+}
+
+/// Writes the FMU to `path` (through a temporary file in the same directory, renamed into
+/// place) and returns its size in bytes. The directory must exist.
+pub fn write_fmu(path: &Path, contents: &FmuContents) -> Result<u64, String> {
+    let bytes = fmu_bytes(contents)?;
+    let tmp = temp_path(path);
+    let result = fs::write(&tmp, &bytes)
+        .and_then(|()| fs::rename(&tmp, path))
+        .map_err(|e| format!("could not write {}: {e}", path.display()));
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result.map(|()| bytes.len() as u64)
+}
+
+/// `dir/.<name>.tmp-<pid>`: hidden, beside the target (so the rename stays on one file
+/// system), and distinct per process.
+fn temp_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "fmu".to_owned());
+    path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testutil::TempDir;
+    use std::io::Read;
+
+    fn contents(binary: &[u8]) -> FmuContents<'_> {
+        FmuContents {
+            identifier: "RlcCircuit",
+            model_description: b"<?xml version=\"1.0\"?><fmiModelDescription/>",
+            binary,
+            documentation: b"<!DOCTYPE html><html><body>RLC</body></html>",
+        }
+    }
+
+    #[cfg(all(target_os = "linux", target_arch = "x86_64"))]
+    #[test]
+    fn entry_names_are_the_fmi_layout() {
+        assert_eq!(
+            entry_names("RlcCircuit").unwrap(),
+            [
+                "modelDescription.xml",
+                "binaries/linux64/RlcCircuit.so",
+                "documentation/index.html"
+            ]
+        );
+    }
+
+    #[test]
+    fn the_archive_holds_exactly_the_three_entries_in_order() {
+        let binary: Vec<u8> = (0..100_000u32).map(|i| (i * 7 % 251) as u8).collect();
+        let tmp = TempDir::new("package");
+        let path = tmp.path().join("RlcCircuit.fmu");
+        let size = write_fmu(&path, &contents(&binary)).unwrap();
+        assert_eq!(size, fs::metadata(&path).unwrap().len());
+
+        let mut archive = zip::ZipArchive::new(fs::File::open(&path).unwrap()).unwrap();
+        let names = entry_names("RlcCircuit").unwrap();
+        assert_eq!(archive.len(), 3);
+        let expected: [&[u8]; 3] = [
+            contents(&binary).model_description,
+            &binary,
+            contents(&binary).documentation,
+        ];
+        for (i, want) in expected.iter().enumerate() {
+            let mut entry = archive.by_index(i).unwrap();
+            assert_eq!(entry.name().unwrap(), names[i].as_str());
+            assert_eq!(entry.compression(), CompressionMethod::Deflated);
+            let t = entry.last_modified().unwrap();
+            assert_eq!(
+                (t.year(), t.month(), t.day(), t.hour(), t.minute()),
+                (1980, 1, 1, 0, 0)
+            );
+            let mut got = Vec::new();
+            entry.read_to_end(&mut got).unwrap();
+            assert_eq!(&got, want);
+        }
+        assert_eq!(
+            archive.by_index(1).unwrap().unix_mode().map(|m| m & 0o777),
+            Some(0o755)
+        );
+        // Only the .fmu is left in the directory: no temporary file.
+        let left: Vec<_> = fs::read_dir(tmp.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left, ["RlcCircuit.fmu"]);
+    }
+
+    #[test]
+    fn the_same_inputs_give_the_same_bytes() {
+        let binary = b"\x7fELF not really".repeat(1000);
+        let tmp = TempDir::new("package-twice");
+        let a = tmp.path().join("a.fmu");
+        let b = tmp.path().join("b.fmu");
+        write_fmu(&a, &contents(&binary)).unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(1100)); // a new second on the clock
+        write_fmu(&b, &contents(&binary)).unwrap();
+        assert_eq!(fs::read(&a).unwrap(), fs::read(&b).unwrap());
+        // and writing over an existing file gives the same bytes again
+        write_fmu(&a, &contents(&binary)).unwrap();
+        assert_eq!(fs::read(&a).unwrap(), fs::read(&b).unwrap());
+    }
+
+    #[test]
+    fn a_failed_write_leaves_nothing_behind() {
+        let tmp = TempDir::new("package-fail");
+        // The target is an existing directory: the rename fails.
+        let path = tmp.path().join("Busy.fmu");
+        fs::create_dir(&path).unwrap();
+        let err = write_fmu(&path, &contents(b"x")).unwrap_err();
+        assert!(err.contains("Busy.fmu"), "{err}");
+        let left: Vec<_> = fs::read_dir(tmp.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left, ["Busy.fmu"]);
+        // A missing directory: nothing is created.
+        let err = write_fmu(&tmp.path().join("no/such/dir/X.fmu"), &contents(b"x")).unwrap_err();
+        assert!(err.contains("X.fmu"), "{err}");
+    }
+}

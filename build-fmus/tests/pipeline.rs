@@ -1,0 +1,204 @@
+//! The whole pipeline on a throwaway workspace made in a temp directory: discovery, one
+//! cargo build, loading each library, zipping. The fake model exports the three
+//! `fmu_runtime_*` symbols by hand, so this test needs neither the runtime nor a real model.
+
+use std::fs;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const FAKE_LIB: &str = r#"
+use std::ffi::c_char;
+#[no_mangle]
+pub extern "C" fn fmu_runtime_model_identifier() -> *const c_char { c"FakeModel".as_ptr() }
+#[no_mangle]
+pub extern "C" fn fmu_runtime_model_description() -> *const c_char {
+    c"<?xml version=\"1.0\" encoding=\"UTF-8\"?>
+<fmiModelDescription fmiVersion=\"2.0\" modelName=\"FakeModel\" guid=\"{0}\">
+  <CoSimulation modelIdentifier=\"FakeModel\"/>
+  <ModelVariables>
+    <ScalarVariable name=\"x\" valueReference=\"0\"><Real/></ScalarVariable>
+    <ScalarVariable name=\"y\" valueReference=\"1\"><Real/></ScalarVariable>
+    <ScalarVariable name=\"z\" valueReference=\"2\"><Real/></ScalarVariable>
+  </ModelVariables>
+</fmiModelDescription>
+".as_ptr()
+}
+#[no_mangle]
+pub extern "C" fn fmu_runtime_documentation() -> *const c_char {
+    c"<!DOCTYPE html><html><body>Fake model, ünïcode</body></html>".as_ptr()
+}
+"#;
+
+fn write(root: &Path, rel: &str, text: &str) {
+    let path = root.join(rel);
+    fs::create_dir_all(path.parent().unwrap()).unwrap();
+    fs::write(path, text).unwrap();
+}
+
+fn manifest(name: &str, lib: &str) -> String {
+    format!("[package]\nname = \"{name}\"\nversion = \"0.1.0\"\nedition = \"2021\"\n{lib}\n")
+}
+
+/// A workspace with a model, a model without the symbols, and a plain rlib.
+fn fake_workspace(root: &Path) {
+    write(
+        root,
+        "Cargo.toml",
+        "[workspace]\nresolver = \"2\"\nmembers = [\"models/*\"]\n",
+    );
+    write(
+        root,
+        "models/fake-model/Cargo.toml",
+        &manifest("fake-model", "[lib]\ncrate-type = [\"cdylib\", \"rlib\"]"),
+    );
+    write(root, "models/fake-model/src/lib.rs", FAKE_LIB);
+    write(
+        root,
+        "models/no-export/Cargo.toml",
+        &manifest("no-export", "[lib]\ncrate-type = [\"cdylib\"]"),
+    );
+    write(
+        root,
+        "models/no-export/src/lib.rs",
+        "#[no_mangle] pub extern \"C\" fn other() {}\n",
+    );
+    write(
+        root,
+        "models/components/Cargo.toml",
+        &manifest("components", ""),
+    );
+    write(root, "models/components/src/lib.rs", "pub fn x() {}\n");
+}
+
+fn run(root: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_build-fmus"))
+        .arg("--workspace")
+        .arg(root)
+        .args(args)
+        .env("CARGO_TARGET_DIR", root.join("target"))
+        .env_remove("CARGO_BUILD_TARGET_DIR")
+        .output()
+        .unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn builds_extracts_and_packages_a_fake_workspace() {
+    let root: PathBuf =
+        std::env::temp_dir().join(format!("build-fmus-pipeline-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&root);
+    fake_workspace(&root);
+
+    // Only the good model: success, one progress line with the variable count.
+    let out_dir = root.join("out");
+    let out = run(
+        &root,
+        &["--only", "FakeModel", "--out", out_dir.to_str().unwrap()],
+    );
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(out.status.success(), "stdout:\n{stdout}\nstderr:\n{stderr}");
+    assert!(
+        stdout.contains("FakeModel") && stdout.contains("3 variables"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("Packaged 1 FMU"), "{stdout}");
+
+    let fmu = out_dir.join("FakeModel.fmu");
+    let first = fs::read(&fmu).unwrap();
+    let mut archive = zip::ZipArchive::new(fs::File::open(&fmu).unwrap()).unwrap();
+    let names: Vec<String> = archive
+        .file_names()
+        .map(|n| n.unwrap().into_owned())
+        .collect();
+    let lib_ext = std::env::consts::DLL_EXTENSION;
+    assert_eq!(names.len(), 3, "{names:?}");
+    assert_eq!(names[0], "modelDescription.xml");
+    assert!(
+        names[1].starts_with("binaries/") && names[1].ends_with(&format!("/FakeModel.{lib_ext}")),
+        "{names:?}"
+    );
+    assert_eq!(names[2], "documentation/index.html");
+    let mut xml = String::new();
+    archive
+        .by_name("modelDescription.xml")
+        .unwrap()
+        .read_to_string(&mut xml)
+        .unwrap();
+    assert!(xml.contains("modelIdentifier=\"FakeModel\""));
+    let built = fs::read(root.join("target/release").join(format!(
+        "{}fake_model{}",
+        std::env::consts::DLL_PREFIX,
+        std::env::consts::DLL_SUFFIX
+    )))
+    .unwrap();
+    let mut binary = Vec::new();
+    archive
+        .by_name(&names[1])
+        .unwrap()
+        .read_to_end(&mut binary)
+        .unwrap();
+    assert_eq!(binary, built);
+
+    // A second run writes the same bytes.
+    let out = run(
+        &root,
+        &["--only", "fake-model", "--out", out_dir.to_str().unwrap()],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(fs::read(&fmu).unwrap(), first);
+
+    // All models, into the default dist/: the one without the symbols fails with a clear
+    // message and exit code 1, the good one is still written.
+    let out = run(&root, &[]);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    assert!(
+        stderr.contains("no-export: the library does not export `fmu_runtime_model_identifier`")
+            && stderr.contains("export_fmu!"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(fs::read(root.join("dist/FakeModel.fmu")).unwrap(), first);
+
+    // A name that is neither a crate nor an identifier.
+    let out = run(&root, &["--only", "Nope"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("--only Nope matched no model"));
+
+    // A crate that does not compile: cargo's messages, then one line naming the packages.
+    write(
+        &root,
+        "models/fake-model/src/lib.rs",
+        "pub fn x() -> u32 { \"no\" }\n",
+    );
+    let out = run(
+        &root,
+        &[
+            "--only",
+            "fake-model",
+            "--out",
+            root.join("out2").to_str().unwrap(),
+        ],
+    );
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("cargo build of the model crates failed") && stderr.contains("fake-model"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        !root.join("out2").exists(),
+        "a failed build created the output directory"
+    );
+
+    let _ = fs::remove_dir_all(&root);
+}

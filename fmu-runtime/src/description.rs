@@ -1,0 +1,521 @@
+//! modelDescription.xml, generated from a model's variable table (never written by hand).
+//!
+//! The ModelStructure (FMI 2.0, section 2.2.8) lists the outputs, the state derivatives and the
+//! initial unknowns with their dependencies. The dependencies are found by evaluating the
+//! model's own equations: each known (input, state, and at initialization each parameter) is
+//! perturbed in turn at two well-separated operating points at a generic time, for every value of each integer
+//! and boolean parameter, and an unknown depends on the known if its value moved. A model whose
+//! equations panic at such a point gets no `dependencies` attribute at all, which FMI reads as
+//! "depends on every known" — conservative, never wrong.
+//!
+//! The guid is a hash of the generated XML (with the guid left out), so any change of the
+//! variables, units or structure gives a new guid, and the binary computes the same guid from
+//! the same code at run time to check the `fmuGUID` a master passes to fmi2Instantiate.
+
+use std::collections::BTreeSet;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use quick_xml::events::{BytesDecl, BytesEnd, BytesStart, Event};
+use quick_xml::Writer;
+
+use crate::log::CATEGORIES;
+use crate::model::Model;
+use crate::state::{fnv1a64, FNV_OFFSET};
+use crate::units;
+use crate::values::{Derivatives, Knowns, Outputs, Values};
+use crate::variables::{Causality, Initial, Slot, Start, Variable, VariableTable};
+
+/// A generated description and its guid.
+pub struct ModelDescription {
+    pub xml: String,
+    pub guid: String,
+    pub table: VariableTable,
+    pub structure: Structure,
+}
+
+/// Dependencies of one unknown: the 1-based indices of the knowns it depends on, or `None`
+/// for "every known".
+pub type Dependencies = Option<BTreeSet<usize>>;
+
+/// The ModelStructure: (index of the unknown, its dependencies) for each list.
+#[derive(Debug, Default)]
+pub struct Structure {
+    pub outputs: Vec<(usize, Dependencies)>,
+    pub derivatives: Vec<(usize, Dependencies)>,
+    pub initial_unknowns: Vec<(usize, Dependencies)>,
+}
+
+/// Formats a real for XML: shortest round-trip text, with an exponent for very small or large.
+pub fn real_text(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e15).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+fn index_of(var: &Variable) -> usize {
+    var.value_reference as usize + 1
+}
+
+/// All unknowns (calculated reals and derivatives, by slot) evaluated at one point.
+fn evaluate<M: Model>(model: &M, t: f64, values: &Values, states: &[f64]) -> Option<(Vec<f64>, Vec<f64>)> {
+    let mut calculated = values.calculated.clone();
+    let mut derivatives = values.derivatives.clone();
+    catch_unwind(AssertUnwindSafe(|| {
+        let k = Knowns::new(t, &values.known, states, &values.integers, &values.booleans);
+        model.derivatives(&k, &mut Derivatives::new(&mut derivatives));
+        model.outputs(&k, &mut Outputs::new(&mut calculated));
+    }))
+    .ok()?;
+    Some((calculated, derivatives))
+}
+
+fn unknown_value(var: &Variable, calc: &[f64], der: &[f64]) -> Option<f64> {
+    match var.slot {
+        Slot::Calculated(i) => Some(calc[i]),
+        Slot::Derivative(i) => Some(der[i]),
+        _ => None,
+    }
+}
+
+fn moved(a: f64, b: f64) -> bool {
+    !(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()))
+}
+
+/// A known that can be perturbed.
+#[derive(Clone, Copy)]
+enum Known<'a> {
+    Real(&'a Variable, usize),
+    State(&'a Variable, usize),
+    Integer(&'a Variable, usize),
+    Boolean(&'a Variable, usize),
+}
+
+impl Known<'_> {
+    fn variable(&self) -> &Variable {
+        match self {
+            Known::Real(v, _) | Known::State(v, _) | Known::Integer(v, _) | Known::Boolean(v, _) => v,
+        }
+    }
+
+    fn perturb(&self, values: &mut Values, states: &mut [f64]) {
+        let step = |x: f64| x + 1e-3 * (x.abs() + 1.0);
+        match *self {
+            Known::Real(_, i) => values.known[i] = step(values.known[i]),
+            Known::State(_, s) => states[s] = step(states[s]),
+            Known::Integer(v, i) => {
+                let n = values.integers[i];
+                let max = v.max.map(|m| m as i32).unwrap_or(i32::MAX);
+                values.integers[i] = if n < max { n + 1 } else { n - 1 };
+            }
+            Known::Boolean(_, i) => values.booleans[i] = !values.booleans[i],
+        }
+    }
+}
+
+/// The operating points at which dependencies are probed: the start values with states and
+/// inputs moved off zero (where a product such as x*u would hide a dependency), once upward,
+/// once downward with different offsets.
+fn probe_points(table: &VariableTable, base: &Values) -> Vec<(Values, Vec<f64>)> {
+    let nominals = table.state_nominals();
+    [(0.31, 0.17), (-0.53, 0.29)]
+        .iter()
+        .map(|(offset, spread)| {
+            let mut v = base.clone();
+            let mut states = Vec::with_capacity(table.n_states);
+            for (s, k) in table.state_known_index.iter().enumerate() {
+                states.push(v.known[*k] + (offset + spread * s as f64) * nominals[s]);
+            }
+            for (j, var) in table.variables.iter().filter(|v| v.causality == Causality::Input).enumerate() {
+                if let Slot::Known(i) = var.slot {
+                    v.known[i] += offset + spread * j as f64;
+                }
+            }
+            (v, states)
+        })
+        .collect()
+}
+
+/// Every configuration of the structural (integer and boolean) parameters worth probing:
+/// the defaults, then each one moved through its declared range with the others at default.
+fn configurations(table: &VariableTable) -> Vec<Values> {
+    let base = table.start_values();
+    let mut configs = vec![base.clone()];
+    for var in &table.variables {
+        match var.slot {
+            Slot::Integer(i) => {
+                if let (Some(min), Some(max)) = (var.min, var.max) {
+                    for n in (min as i32..=max as i32).take(16) {
+                        if n != base.integers[i] {
+                            let mut c = base.clone();
+                            c.integers[i] = n;
+                            configs.push(c);
+                        }
+                    }
+                }
+            }
+            Slot::Boolean(i) => {
+                let mut c = base.clone();
+                c.booleans[i] = !c.booleans[i];
+                configs.push(c);
+            }
+            _ => {}
+        }
+    }
+    configs
+}
+
+/// For each unknown (by position in `unknowns`), the knowns it depends on.
+fn dependencies<M: Model>(model: &M, table: &VariableTable, unknowns: &[&Variable], knowns: &[Known], t: f64) -> Vec<Dependencies> {
+    let mut deps: Vec<Dependencies> = vec![Some(BTreeSet::new()); unknowns.len()];
+    for config in configurations(table) {
+        for (values, states) in probe_points(table, &config) {
+            let Some((c0, d0)) = evaluate(model, t, &values, &states) else {
+                return vec![None; unknowns.len()];
+            };
+            for known in knowns {
+                let (mut v, mut s) = (values.clone(), states.clone());
+                known.perturb(&mut v, &mut s);
+                let Some((c1, d1)) = evaluate(model, t, &v, &s) else {
+                    return vec![None; unknowns.len()];
+                };
+                for (u, dep) in unknowns.iter().zip(deps.iter_mut()) {
+                    let (a, b) = (unknown_value(u, &c0, &d0), unknown_value(u, &c1, &d1));
+                    if let (Some(a), Some(b), Some(set)) = (a, b, dep.as_mut()) {
+                        if moved(a, b) {
+                            set.insert(index_of(known.variable()));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    deps
+}
+
+/// The ModelStructure of a model, from its equations.
+pub fn structure<M: Model>(model: &M, table: &VariableTable, t: f64) -> Structure {
+    let vars = &table.variables;
+    let state_known = |v: &&Variable| matches!(v.slot, Slot::Known(_)) && v.initial == Some(Initial::Exact) && v.causality == Causality::Local;
+    let state_index = |v: &Variable| table.state_value_reference.iter().position(|vr| *vr == v.value_reference);
+    // Knowns while stepping: inputs and states.
+    let mut run_knowns = Vec::new();
+    // Knowns at initialization: also parameters (and state start values).
+    let mut init_knowns = Vec::new();
+    for v in vars {
+        let k = match v.slot {
+            Slot::Known(i) if v.causality == Causality::Input => Known::Real(v, i),
+            Slot::Known(_) if state_known(&v) => Known::State(v, state_index(v).expect("a declared state")),
+            Slot::Known(i) => Known::Real(v, i),
+            Slot::Integer(i) => Known::Integer(v, i),
+            Slot::Boolean(i) => Known::Boolean(v, i),
+            _ => continue,
+        };
+        if matches!(k, Known::State(..)) || v.causality == Causality::Input {
+            run_knowns.push(k);
+        }
+        init_knowns.push(k);
+    }
+    let outputs: Vec<&Variable> = vars.iter().filter(|v| v.causality == Causality::Output).collect();
+    let derivatives: Vec<&Variable> = vars.iter().filter(|v| v.derivative_of.is_some()).collect();
+    let initial: Vec<&Variable> = vars
+        .iter()
+        .filter(|v| {
+            (v.causality == Causality::Output && v.initial != Some(Initial::Exact))
+                || v.causality == Causality::CalculatedParameter
+                || (v.derivative_of.is_some() && v.initial == Some(Initial::Calculated))
+        })
+        .collect();
+    let zip = |us: &[&Variable], ds: Vec<Dependencies>| us.iter().map(|u| index_of(u)).zip(ds).collect::<Vec<_>>();
+    Structure {
+        outputs: zip(&outputs, dependencies(model, table, &outputs, &run_knowns, t)),
+        derivatives: zip(&derivatives, dependencies(model, table, &derivatives, &run_knowns, t)),
+        initial_unknowns: zip(&initial, dependencies(model, table, &initial, &init_knowns, t)),
+    }
+}
+
+type Xml = Writer<Vec<u8>>;
+
+fn open(w: &mut Xml, name: &str, attrs: &[(&str, String)]) {
+    let mut e = BytesStart::new(name);
+    for (k, v) in attrs {
+        e.push_attribute((*k, v.as_str()));
+    }
+    w.write_event(Event::Start(e)).expect("writing to memory");
+}
+
+fn empty(w: &mut Xml, name: &str, attrs: &[(&str, String)]) {
+    let mut e = BytesStart::new(name);
+    for (k, v) in attrs {
+        e.push_attribute((*k, v.as_str()));
+    }
+    w.write_event(Event::Empty(e)).expect("writing to memory");
+}
+
+fn close(w: &mut Xml, name: &str) {
+    w.write_event(Event::End(BytesEnd::new(name))).expect("writing to memory");
+}
+
+fn write_unknowns(w: &mut Xml, list: &str, unknowns: &[(usize, Dependencies)]) {
+    if unknowns.is_empty() {
+        return;
+    }
+    open(w, list, &[]);
+    for (index, deps) in unknowns {
+        let mut attrs = vec![("index", index.to_string())];
+        if let Some(set) = deps {
+            attrs.push(("dependencies", set.iter().map(|i| i.to_string()).collect::<Vec<_>>().join(" ")));
+        }
+        empty(w, "Unknown", &attrs);
+    }
+    close(w, list);
+}
+
+fn yes_no(b: bool) -> String {
+    if b { "true" } else { "false" }.to_string()
+}
+
+fn variable_attributes(v: &Variable) -> Vec<(&'static str, String)> {
+    let mut a = vec![("name", v.name.clone()), ("valueReference", v.value_reference.to_string())];
+    if !v.description.is_empty() {
+        a.push(("description", v.description.clone()));
+    }
+    a.push(("causality", v.causality.as_str().to_string()));
+    a.push(("variability", v.variability.as_str().to_string()));
+    if let Some(i) = v.initial {
+        a.push(("initial", i.as_str().to_string()));
+    }
+    a
+}
+
+fn write_variable(w: &mut Xml, v: &Variable, table: &VariableTable) {
+    open(w, "ScalarVariable", &variable_attributes(v));
+    let mut t = Vec::new();
+    match v.start {
+        Some(Start::Real(x)) => t.push(("start", real_text(x))),
+        Some(Start::Integer(n)) => t.push(("start", n.to_string())),
+        Some(Start::Boolean(b)) => t.push(("start", yes_no(b))),
+        None => {}
+    }
+    match v.start {
+        Some(Start::Integer(_)) => {
+            if let Some(m) = v.min {
+                t.push(("min", (m as i32).to_string()));
+            }
+            if let Some(m) = v.max {
+                t.push(("max", (m as i32).to_string()));
+            }
+            empty(w, "Integer", &t);
+        }
+        Some(Start::Boolean(_)) => empty(w, "Boolean", &t),
+        _ => {
+            if let Some(of) = v.derivative_of {
+                t.push(("derivative", (table.variables[of as usize].value_reference as usize + 1).to_string()));
+            }
+            if let Some(u) = &v.unit {
+                t.push(("unit", u.clone()));
+            }
+            if let Some(m) = v.min {
+                t.push(("min", real_text(m)));
+            }
+            if let Some(m) = v.max {
+                t.push(("max", real_text(m)));
+            }
+            if let Some(n) = v.nominal {
+                t.push(("nominal", real_text(n)));
+            }
+            empty(w, "Real", &t);
+        }
+    }
+    close(w, "ScalarVariable");
+}
+
+fn write_units(w: &mut Xml, table: &VariableTable) {
+    let used: BTreeSet<&str> = table.variables.iter().filter_map(|v| v.unit.as_deref()).collect();
+    if used.is_empty() {
+        return;
+    }
+    open(w, "UnitDefinitions", &[]);
+    for name in used {
+        let b = units::lookup(name).expect("checked at declaration");
+        open(w, "Unit", &[("name", name.to_string())]);
+        let mut attrs = Vec::new();
+        for (k, e) in [("kg", b.kg), ("m", b.m), ("s", b.s), ("A", b.a), ("K", b.k), ("mol", b.mol), ("cd", b.cd), ("rad", b.rad)] {
+            if e != 0 {
+                attrs.push((k, e.to_string()));
+            }
+        }
+        if b.factor != 1.0 {
+            attrs.push(("factor", real_text(b.factor)));
+        }
+        if b.offset != 0.0 {
+            attrs.push(("offset", real_text(b.offset)));
+        }
+        empty(w, "BaseUnit", &attrs);
+        close(w, "Unit");
+    }
+    close(w, "UnitDefinitions");
+}
+
+/// The placeholder the guid replaces after hashing.
+const GUID_PLACEHOLDER: &str = "{00000000-0000-0000-0000-000000000000}";
+
+fn write_xml<M: Model>(table: &VariableTable, structure: &Structure) -> String {
+    let info = M::info();
+    let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
+    w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None))).expect("memory");
+    open(
+        &mut w,
+        "fmiModelDescription",
+        &[
+            ("fmiVersion", "2.0".into()),
+            ("modelName", info.name.into()),
+            ("guid", GUID_PLACEHOLDER.into()),
+            ("description", info.description.into()),
+            ("generationTool", format!("fmu-runtime {}", env!("CARGO_PKG_VERSION"))),
+            ("numberOfEventIndicators", "0".into()),
+        ],
+    );
+    empty(
+        &mut w,
+        "CoSimulation",
+        &[
+            ("modelIdentifier", info.name.into()),
+            ("needsExecutionTool", yes_no(false)),
+            ("canHandleVariableCommunicationStepSize", yes_no(true)),
+            ("canInterpolateInputs", yes_no(false)),
+            ("maxOutputDerivativeOrder", "0".into()),
+            ("canRunAsynchronuously", yes_no(false)),
+            ("canBeInstantiatedOnlyOncePerProcess", yes_no(false)),
+            ("canNotUseMemoryManagementFunctions", yes_no(true)),
+            ("canGetAndSetFMUstate", yes_no(true)),
+            ("canSerializeFMUstate", yes_no(true)),
+            ("providesDirectionalDerivative", yes_no(false)),
+        ],
+    );
+    write_units(&mut w, table);
+    open(&mut w, "LogCategories", &[]);
+    for (name, description) in CATEGORIES {
+        empty(&mut w, "Category", &[("name", name.to_string()), ("description", description.to_string())]);
+    }
+    close(&mut w, "LogCategories");
+    let e = info.default_experiment;
+    empty(
+        &mut w,
+        "DefaultExperiment",
+        &[("startTime", real_text(e.start_time)), ("stopTime", real_text(e.stop_time)), ("stepSize", real_text(e.step_size))],
+    );
+    open(&mut w, "ModelVariables", &[]);
+    for v in &table.variables {
+        write_variable(&mut w, v, table);
+    }
+    close(&mut w, "ModelVariables");
+    open(&mut w, "ModelStructure", &[]);
+    write_unknowns(&mut w, "Outputs", &structure.outputs);
+    write_unknowns(&mut w, "Derivatives", &structure.derivatives);
+    write_unknowns(&mut w, "InitialUnknowns", &structure.initial_unknowns);
+    close(&mut w, "ModelStructure");
+    close(&mut w, "fmiModelDescription");
+    let mut xml = String::from_utf8(w.into_inner()).expect("UTF-8 in, UTF-8 out");
+    xml.push('\n');
+    xml
+}
+
+/// A guid in the usual 8-4-4-4-12 form from two FNV-1a hashes of the content.
+fn guid_of(content: &str) -> String {
+    let a = fnv1a64(FNV_OFFSET, content.as_bytes());
+    let b = fnv1a64(a ^ 0x9e37_79b9_7f4a_7c15, content.as_bytes());
+    let hex = format!("{a:016x}{b:016x}");
+    format!("{{{}-{}-{}-{}-{}}}", &hex[0..8], &hex[8..12], &hex[12..16], &hex[16..20], &hex[20..32])
+}
+
+impl ModelDescription {
+    pub fn of<M: Model>() -> ModelDescription {
+        let mut d = crate::variables::Declarations::new();
+        let model = M::declare(&mut d);
+        let table = d.into_table();
+        // Probe at a generic time inside the default experiment, not at its start, where a
+        // sine source would hide its amplitude (sin 0 = 0).
+        let e = M::info().default_experiment;
+        let probe_time = e.start_time + 0.2371 * (e.stop_time - e.start_time) + 0.0137;
+        let structure = structure(&model, &table, probe_time);
+        let draft = write_xml::<M>(&table, &structure);
+        let guid = guid_of(&draft);
+        let xml = draft.replacen(GUID_PLACEHOLDER, &guid, 1);
+        ModelDescription { xml, guid, table, structure }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{DefaultExperiment, ModelInfo, Solver};
+    use crate::variables::{Declarations, Input, Output, Parameter, State};
+
+    /// dx/dt = -a x + u; y = 2 x; z = a (a calculated parameter would be listed too).
+    struct Decay {
+        a: Parameter,
+        u: Input,
+        x: State,
+        y: Output,
+        w: Output,
+    }
+
+    impl Model for Decay {
+        fn info() -> ModelInfo {
+            ModelInfo {
+                name: "Decay",
+                description: "test <model> & \"quotes\"",
+                default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 1.0, step_size: 0.01 },
+                solver: Solver::ExplicitRungeKutta,
+                documentation: "",
+            }
+        }
+        fn declare(d: &mut Declarations) -> Self {
+            Decay {
+                a: d.parameter("a", 2.0, "Hz").min(0.0).describe("rate"),
+                u: d.input("u", 0.0, "1").describe("input"),
+                x: d.state("x", 1.0, "1").describe("state"),
+                y: d.output("y", "1").describe("twice the state"),
+                w: d.output("w", "1").describe("the input times a"),
+            }
+        }
+        fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+            der[self.x] = -k[self.a] * k[self.x] + k[self.u];
+        }
+        fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+            out[self.y] = 2.0 * k[self.x];
+            out[self.w] = k[self.a] * k[self.u];
+        }
+    }
+
+    #[test]
+    fn dependencies_come_from_the_equations() {
+        let d = ModelDescription::of::<Decay>();
+        // indices: a=1, u=2, x=3, der(x)=4, y=5, w=6
+        let s = &d.structure;
+        let set = |v: &[usize]| Some(v.iter().copied().collect::<BTreeSet<_>>());
+        assert_eq!(s.outputs, vec![(5, set(&[3])), (6, set(&[2]))]);
+        assert_eq!(s.derivatives, vec![(4, set(&[2, 3]))]);
+        assert_eq!(s.initial_unknowns, vec![(4, set(&[1, 2, 3])), (5, set(&[3])), (6, set(&[1, 2]))]);
+    }
+
+    #[test]
+    fn xml_is_escaped_and_guid_is_a_content_hash() {
+        let d = ModelDescription::of::<Decay>();
+        assert!(d.xml.contains("test &lt;model&gt; &amp; &quot;quotes&quot;"), "{}", d.xml);
+        assert!(d.xml.contains(&format!("guid=\"{}\"", d.guid)));
+        assert!(!d.xml.contains(GUID_PLACEHOLDER));
+        assert_eq!(d.guid, ModelDescription::of::<Decay>().guid, "deterministic");
+        assert!(d.xml.contains(r#"<Real unit="Hz/s" derivative="3"/>"#) || d.xml.contains(r#"derivative="3""#));
+        assert!(d.xml.contains(r#"<Unit name="Hz">"#));
+    }
+
+    #[test]
+    fn real_text_round_trips() {
+        for v in [0.0, 1e-8, 0.01, 1.0, 11.72, 1.5e5, 6.5e6, -3.25, 1e300, 4.9e-324] {
+            assert_eq!(real_text(v).parse::<f64>().unwrap(), v, "{}", real_text(v));
+        }
+    }
+}

@@ -1,0 +1,462 @@
+//! Every fmi2 function of `fmi2Functions.h`, once, generic over the model. `export_fmu!` wraps
+//! each in an `extern "C"` symbol. Each function:
+//! 1. turns the component pointer into an instance (null -> fmi2Error),
+//! 2. checks the call against the state table (`lifecycle`) -> fmi2Error with the allowed modes,
+//! 3. turns C arrays into slices (null with n > 0 -> fmi2Error),
+//! 4. runs the safe body inside `catch_unwind`: a panic becomes fmi2Fatal and a logger message,
+//!    never an unwind across the C boundary,
+//! 5. reports a failure's message through the logger and returns its status.
+#![allow(clippy::missing_safety_doc, clippy::too_many_arguments, non_upper_case_globals)]
+
+use std::ffi::CStr;
+use std::os::raw::c_char;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use super::types::*;
+use super::Exported;
+use crate::instance::{CallResult, Failure, FmiValue, Instance};
+use crate::lifecycle::{Function, Mode};
+use crate::log::Logger;
+use crate::model::Model;
+
+/// Marks live instances; cleared on free so that a stale pointer to a still-mapped instance
+/// is recognised rather than used.
+const MAGIC: u64 = 0x464d_5552_5349_4e53;
+
+/// What `fmi2Component` points at.
+#[repr(C)]
+pub struct Component<M: Model> {
+    magic: u64,
+    instance: Instance<M>,
+    /// Bytes of the last fmi2SerializedFMUstateSize, reused by fmi2SerializeFMUstate.
+    serialized: Option<(usize, Vec<u8>)>,
+}
+
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".to_string())
+}
+
+unsafe fn component<'a, M: Model>(c: fmi2Component) -> Option<&'a mut Component<M>> {
+    let comp = (c as *mut Component<M>).as_mut()?;
+    (comp.magic == MAGIC).then_some(comp)
+}
+
+/// Runs `body` on the instance behind `c` if `function` is legal in its mode.
+unsafe fn with<M: Model>(
+    c: fmi2Component,
+    function: Function,
+    name: &str,
+    body: impl FnOnce(&mut Component<M>) -> CallResult,
+) -> fmi2Status {
+    let Some(comp) = component::<M>(c) else {
+        return fmi2Error;
+    };
+    let mode = comp.instance.mode;
+    if !function.is_allowed_in(mode) {
+        comp.instance.logger.log(
+            if mode == Mode::Fatal { fmi2Fatal } else { fmi2Error },
+            &format!("{name} is not allowed in mode {}; it is allowed in: {}", mode.name(), function.allowed_mode_names()),
+        );
+        return if mode == Mode::Fatal { fmi2Fatal } else { fmi2Error };
+    }
+    match catch_unwind(AssertUnwindSafe(|| body(comp))) {
+        Ok(Ok(())) => fmi2OK,
+        Ok(Err(failure)) => {
+            comp.instance.report(&Failure { message: format!("{name}: {}", failure.message), ..failure });
+            failure.status
+        }
+        Err(payload) => {
+            comp.instance.mode = Mode::Fatal;
+            let msg = format!("{name}: internal error (panic): {}; the instance can only be freed", panic_message(&*payload));
+            comp.instance.logger.log(fmi2Fatal, &msg);
+            fmi2Fatal
+        }
+    }
+}
+
+/// A C array as a slice; `None` (an error) when it is null but should hold `n` > 0 items.
+unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
+    if n == 0 {
+        Some(&[])
+    } else if p.is_null() {
+        None
+    } else {
+        Some(std::slice::from_raw_parts(p, n))
+    }
+}
+
+unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
+    if n == 0 {
+        Some(&mut [])
+    } else if p.is_null() {
+        None
+    } else {
+        Some(std::slice::from_raw_parts_mut(p, n))
+    }
+}
+
+fn null(what: &str) -> Failure {
+    Failure::error(format!("{what} is a null pointer"))
+}
+
+unsafe fn c_str<'a>(p: fmi2String) -> Option<&'a str> {
+    if p.is_null() {
+        None
+    } else {
+        CStr::from_ptr(p).to_str().ok()
+    }
+}
+
+pub fn get_types_platform() -> *const c_char {
+    TYPES_PLATFORM.as_ptr()
+}
+
+pub fn get_version() -> *const c_char {
+    VERSION.as_ptr()
+}
+
+pub unsafe fn instantiate<M: Model>(
+    exported: &'static Exported,
+    instance_name: fmi2String,
+    fmu_type: fmi2Type,
+    guid: fmi2String,
+    _resource_location: fmi2String,
+    callbacks: *const fmi2CallbackFunctions,
+    _visible: fmi2Boolean,
+    logging_on: fmi2Boolean,
+) -> fmi2Component {
+    let Some(callbacks) = callbacks.as_ref() else {
+        return std::ptr::null_mut();
+    };
+    let name = c_str(instance_name).unwrap_or("");
+    let logger = Logger::new(callbacks.logger, callbacks.componentEnvironment, if name.is_empty() { "?" } else { name }, logging_on != 0);
+    let fail = |msg: String| {
+        logger.log(fmi2Error, &format!("fmi2Instantiate: {msg}"));
+        std::ptr::null_mut()
+    };
+    if name.is_empty() {
+        return fail("the instance name is null or empty".into());
+    }
+    if fmu_type != fmi2CoSimulation {
+        return fail(format!(
+            "this FMU offers Co-Simulation only (fmuType = fmi2CoSimulation), not fmuType = {fmu_type}"
+        ));
+    }
+    match c_str(guid) {
+        Some(g) if g == exported.guid => {}
+        Some(g) => return fail(format!("guid {g} does not match this FMU's guid {}: modelDescription.xml and binary differ", exported.guid)),
+        None => return fail("guid is null or not UTF-8".into()),
+    }
+    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::new(&exported.guid, logger))) {
+        Ok(instance) => Box::into_raw(Box::new(Component { magic: MAGIC, instance, serialized: None })) as fmi2Component,
+        Err(payload) => {
+            // The logger moved into the closure; build a fresh one to report.
+            let logger = Logger::new(callbacks.logger, callbacks.componentEnvironment, name, true);
+            logger.log(fmi2Fatal, &format!("fmi2Instantiate: internal error (panic): {}", panic_message(&*payload)));
+            std::ptr::null_mut()
+        }
+    }
+}
+
+pub unsafe fn free_instance<M: Model>(c: fmi2Component) {
+    if component::<M>(c).is_none() {
+        return;
+    }
+    let mut comp = Box::from_raw(c as *mut Component<M>);
+    comp.magic = 0;
+    let _ = catch_unwind(AssertUnwindSafe(move || drop(comp)));
+}
+
+pub unsafe fn set_debug_logging<M: Model>(c: fmi2Component, on: fmi2Boolean, n: usize, categories: *const fmi2String) -> fmi2Status {
+    with::<M>(c, Function::SetDebugLogging, "fmi2SetDebugLogging", |comp| {
+        let cats = slice(categories, n).ok_or_else(|| null("categories"))?;
+        let mut names = Vec::with_capacity(n);
+        for p in cats {
+            names.push(c_str(*p).ok_or_else(|| Failure::error("a category name is null or not UTF-8"))?.to_string());
+        }
+        comp.instance.set_debug_logging(on != 0, &names)
+    })
+}
+
+pub unsafe fn setup_experiment<M: Model>(
+    c: fmi2Component,
+    tolerance_defined: fmi2Boolean,
+    tolerance: fmi2Real,
+    start_time: fmi2Real,
+    stop_time_defined: fmi2Boolean,
+    stop_time: fmi2Real,
+) -> fmi2Status {
+    with::<M>(c, Function::SetupExperiment, "fmi2SetupExperiment", |comp| {
+        comp.instance.setup_experiment(
+            (tolerance_defined != 0).then_some(tolerance),
+            start_time,
+            (stop_time_defined != 0).then_some(stop_time),
+        )
+    })
+}
+
+pub unsafe fn enter_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status {
+    with::<M>(c, Function::EnterInitializationMode, "fmi2EnterInitializationMode", |comp| comp.instance.enter_initialization_mode())
+}
+
+pub unsafe fn exit_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status {
+    with::<M>(c, Function::ExitInitializationMode, "fmi2ExitInitializationMode", |comp| comp.instance.exit_initialization_mode())
+}
+
+pub unsafe fn terminate<M: Model>(c: fmi2Component) -> fmi2Status {
+    with::<M>(c, Function::Terminate, "fmi2Terminate", |comp| comp.instance.terminate())
+}
+
+pub unsafe fn reset<M: Model>(c: fmi2Component) -> fmi2Status {
+    with::<M>(c, Function::Reset, "fmi2Reset", |comp| comp.instance.reset())
+}
+
+unsafe fn get_values<M: Model, T: FmiValue>(c: fmi2Component, name: &str, vr: *const fmi2ValueReference, n: usize, out: *mut T) -> fmi2Status {
+    with::<M>(c, Function::Get, name, |comp| {
+        let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        let out = slice_mut(out, n).ok_or_else(|| null("the value array"))?;
+        comp.instance.get(vrs, out)
+    })
+}
+
+unsafe fn set_values<M: Model, T: FmiValue>(c: fmi2Component, name: &str, vr: *const fmi2ValueReference, n: usize, vals: &[T]) -> fmi2Status {
+    with::<M>(c, Function::Set, name, |comp| {
+        let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        comp.instance.set(vrs, vals)
+    })
+}
+
+pub unsafe fn get_real<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *mut fmi2Real) -> fmi2Status {
+    get_values::<M, f64>(c, "fmi2GetReal", vr, n, value)
+}
+
+pub unsafe fn get_integer<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *mut fmi2Integer) -> fmi2Status {
+    get_values::<M, i32>(c, "fmi2GetInteger", vr, n, value)
+}
+
+pub unsafe fn get_boolean<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *mut fmi2Boolean) -> fmi2Status {
+    let mut bools = vec![false; if value.is_null() { 0 } else { n }];
+    let status = get_values::<M, bool>(c, "fmi2GetBoolean", vr, n, if value.is_null() { std::ptr::null_mut() } else { bools.as_mut_ptr() });
+    if status == fmi2OK {
+        if let Some(out) = slice_mut(value, n) {
+            out.iter_mut().zip(&bools).for_each(|(o, b)| *o = *b as fmi2Boolean);
+        }
+    }
+    status
+}
+
+pub unsafe fn get_string<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *mut fmi2String) -> fmi2Status {
+    with::<M>(c, Function::Get, "fmi2GetString", |comp| {
+        let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        slice_mut(value, n).ok_or_else(|| null("the value array"))?;
+        match vrs.first() {
+            None => Ok(()),
+            Some(vr) => Err(Failure::error(no_string(comp.instance.table(), *vr))),
+        }
+    })
+}
+
+fn no_string(table: &crate::variables::VariableTable, vr: u32) -> String {
+    match table.get(vr) {
+        Some(v) => format!("value reference {vr} is the {:?} variable '{}', not a String (this FMU has no String variables)", v.base_type(), v.name),
+        None => format!("unknown value reference {vr} (this FMU has no String variables)"),
+    }
+}
+
+pub unsafe fn set_real<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2Real) -> fmi2Status {
+    match slice(value, n) {
+        Some(vals) => set_values::<M, f64>(c, "fmi2SetReal", vr, n, vals),
+        None => with::<M>(c, Function::Set, "fmi2SetReal", |_| Err(null("the value array"))),
+    }
+}
+
+pub unsafe fn set_integer<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2Integer) -> fmi2Status {
+    match slice(value, n) {
+        Some(vals) => set_values::<M, i32>(c, "fmi2SetInteger", vr, n, vals),
+        None => with::<M>(c, Function::Set, "fmi2SetInteger", |_| Err(null("the value array"))),
+    }
+}
+
+pub unsafe fn set_boolean<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2Boolean) -> fmi2Status {
+    match slice(value, n) {
+        Some(vals) => {
+            let bools: Vec<bool> = vals.iter().map(|b| *b != 0).collect();
+            set_values::<M, bool>(c, "fmi2SetBoolean", vr, n, &bools)
+        }
+        None => with::<M>(c, Function::Set, "fmi2SetBoolean", |_| Err(null("the value array"))),
+    }
+}
+
+pub unsafe fn set_string<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2String) -> fmi2Status {
+    with::<M>(c, Function::Set, "fmi2SetString", |comp| {
+        let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        slice(value, n).ok_or_else(|| null("the value array"))?;
+        match vrs.first() {
+            None => Ok(()),
+            Some(vr) => Err(Failure::error(no_string(comp.instance.table(), *vr))),
+        }
+    })
+}
+
+/// An `fmi2FMUstate` handle as the instance's store knows it (0 = none).
+fn handle(state: fmi2FMUstate) -> Option<usize> {
+    let h = state as usize;
+    (h != 0).then_some(h)
+}
+
+pub unsafe fn get_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
+    with::<M>(c, Function::FmuState, "fmi2GetFMUstate", |comp| {
+        let state = state.as_mut().ok_or_else(|| null("the FMUstate pointer"))?;
+        let h = comp.instance.get_fmu_state(handle(*state))?;
+        *state = h as fmi2FMUstate;
+        Ok(())
+    })
+}
+
+pub unsafe fn set_fmu_state<M: Model>(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
+    with::<M>(c, Function::FmuState, "fmi2SetFMUstate", |comp| {
+        let h = handle(state).ok_or_else(|| null("the FMUstate"))?;
+        comp.instance.set_fmu_state(h)
+    })
+}
+
+pub unsafe fn free_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
+    with::<M>(c, Function::FmuState, "fmi2FreeFMUstate", |comp| {
+        let Some(state) = state.as_mut() else {
+            return Err(null("the FMUstate pointer"));
+        };
+        // FMI 2.0: freeing a null FMUstate is ignored.
+        let Some(h) = handle(*state) else { return Ok(()) };
+        comp.instance.free_fmu_state(h)?;
+        *state = std::ptr::null_mut();
+        Ok(())
+    })
+}
+
+pub unsafe fn serialized_fmu_state_size<M: Model>(c: fmi2Component, state: fmi2FMUstate, size: *mut usize) -> fmi2Status {
+    with::<M>(c, Function::FmuState, "fmi2SerializedFMUstateSize", |comp| {
+        let size = size.as_mut().ok_or_else(|| null("the size pointer"))?;
+        let h = handle(state).ok_or_else(|| null("the FMUstate"))?;
+        let bytes = comp.instance.serialize_fmu_state(h)?;
+        *size = bytes.len();
+        comp.serialized = Some((h, bytes));
+        Ok(())
+    })
+}
+
+pub unsafe fn serialize_fmu_state<M: Model>(c: fmi2Component, state: fmi2FMUstate, out: *mut fmi2Byte, size: usize) -> fmi2Status {
+    with::<M>(c, Function::FmuState, "fmi2SerializeFMUstate", |comp| {
+        let h = handle(state).ok_or_else(|| null("the FMUstate"))?;
+        let bytes = match comp.serialized.take() {
+            Some((cached, bytes)) if cached == h => bytes,
+            _ => comp.instance.serialize_fmu_state(h)?,
+        };
+        if size != bytes.len() {
+            return Err(Failure::error(format!(
+                "the buffer holds {size} bytes, the serialized state has {} (ask fmi2SerializedFMUstateSize)",
+                bytes.len()
+            )));
+        }
+        let out = slice_mut(out as *mut u8, size).ok_or_else(|| null("the byte buffer"))?;
+        out.copy_from_slice(&bytes);
+        Ok(())
+    })
+}
+
+pub unsafe fn deserialize_fmu_state<M: Model>(c: fmi2Component, bytes: *const fmi2Byte, size: usize, state: *mut fmi2FMUstate) -> fmi2Status {
+    with::<M>(c, Function::FmuState, "fmi2DeSerializeFMUstate", |comp| {
+        let bytes = slice(bytes as *const u8, size).ok_or_else(|| null("the byte buffer"))?;
+        let state = state.as_mut().ok_or_else(|| null("the FMUstate pointer"))?;
+        let h = comp.instance.deserialize_fmu_state(bytes, handle(*state))?;
+        *state = h as fmi2FMUstate;
+        Ok(())
+    })
+}
+
+pub unsafe fn get_directional_derivative<M: Model>(c: fmi2Component) -> fmi2Status {
+    with::<M>(c, Function::GetDirectionalDerivative, "fmi2GetDirectionalDerivative", |_| {
+        Err(Failure::error("not provided by this FMU (providesDirectionalDerivative = false)"))
+    })
+}
+
+pub unsafe fn set_real_input_derivatives<M: Model>(c: fmi2Component) -> fmi2Status {
+    with::<M>(c, Function::SetRealInputDerivatives, "fmi2SetRealInputDerivatives", |_| {
+        Err(Failure::error("not supported by this FMU (canInterpolateInputs = false): inputs are held constant over a step"))
+    })
+}
+
+pub unsafe fn get_real_output_derivatives<M: Model>(c: fmi2Component) -> fmi2Status {
+    with::<M>(c, Function::GetRealOutputDerivatives, "fmi2GetRealOutputDerivatives", |_| {
+        Err(Failure::error("not supported by this FMU (maxOutputDerivativeOrder = 0)"))
+    })
+}
+
+pub unsafe fn do_step<M: Model>(c: fmi2Component, t: fmi2Real, h: fmi2Real, _no_set_prior: fmi2Boolean) -> fmi2Status {
+    with::<M>(c, Function::DoStep, "fmi2DoStep", |comp| comp.instance.do_step(t, h))
+}
+
+pub unsafe fn cancel_step<M: Model>(c: fmi2Component) -> fmi2Status {
+    // fmi2DoStep never returns fmi2Pending, so the state table refuses this in every mode.
+    with::<M>(c, Function::CancelStep, "fmi2CancelStep", |_| Ok(()))
+}
+
+unsafe fn status_of<M: Model, T>(
+    c: fmi2Component,
+    name: &str,
+    kind: fmi2StatusKind,
+    value: *mut T,
+    read: impl FnOnce(&Instance<M>, fmi2StatusKind) -> CallResult<T>,
+) -> fmi2Status {
+    with::<M>(c, Function::GetStatus, name, |comp| {
+        let out = value.as_mut().ok_or_else(|| null("the value pointer"))?;
+        *out = read(&comp.instance, kind)?;
+        Ok(())
+    })
+}
+
+fn no_status(kind: fmi2StatusKind, ty: &str) -> Failure {
+    let what = match kind {
+        fmi2DoStepStatus | fmi2PendingStatus => "there is never an asynchronous step in progress (fmi2DoStep never returns fmi2Pending)",
+        _ => "this status kind has no value of this type",
+    };
+    Failure::error(format!("status kind {kind} as {ty}: {what}"))
+}
+
+pub unsafe fn get_status<M: Model>(c: fmi2Component, kind: fmi2StatusKind, value: *mut fmi2Status) -> fmi2Status {
+    status_of::<M, fmi2Status>(c, "fmi2GetStatus", kind, value, |_, k| Err(no_status(k, "fmi2Status")))
+}
+
+pub unsafe fn get_real_status<M: Model>(c: fmi2Component, kind: fmi2StatusKind, value: *mut fmi2Real) -> fmi2Status {
+    status_of::<M, fmi2Real>(c, "fmi2GetRealStatus", kind, value, |inst, k| match k {
+        fmi2LastSuccessfulTime => Ok(inst.last_successful_time()),
+        _ => Err(no_status(k, "Real")),
+    })
+}
+
+pub unsafe fn get_integer_status<M: Model>(c: fmi2Component, kind: fmi2StatusKind, value: *mut fmi2Integer) -> fmi2Status {
+    status_of::<M, fmi2Integer>(c, "fmi2GetIntegerStatus", kind, value, |_, k| Err(no_status(k, "Integer")))
+}
+
+pub unsafe fn get_boolean_status<M: Model>(c: fmi2Component, kind: fmi2StatusKind, value: *mut fmi2Boolean) -> fmi2Status {
+    status_of::<M, fmi2Boolean>(c, "fmi2GetBooleanStatus", kind, value, |_, k| match k {
+        // The slave never asks to end the simulation on its own.
+        fmi2Terminated => Ok(fmi2False),
+        _ => Err(no_status(k, "Boolean")),
+    })
+}
+
+pub unsafe fn get_string_status<M: Model>(c: fmi2Component, kind: fmi2StatusKind, value: *mut fmi2String) -> fmi2Status {
+    status_of::<M, fmi2String>(c, "fmi2GetStringStatus", kind, value, |_, k| Err(no_status(k, "String")))
+}
+
+/// Model Exchange functions: this FMU is Co-Simulation only until the Model Exchange issue
+/// lands; each is exported (so every symbol of fmi2Functions.h resolves) and refuses.
+pub unsafe fn model_exchange_only<M: Model>(c: fmi2Component, name: &str) -> fmi2Status {
+    let Some(comp) = component::<M>(c) else { return fmi2Error };
+    comp.instance.logger.log(fmi2Error, &format!("{name}: this FMU offers Co-Simulation only (no ModelExchange element)"));
+    fmi2Error
+}

@@ -1,0 +1,454 @@
+//! One FMU instance: its mode in the FMI 2.0 state machine, its values, its solver, its saved
+//! states, and every check a call must pass. The C layer (`fmi2`) has already checked pointers
+//! and that the call is legal in the current mode; everything here is safe Rust.
+//!
+//! Errors from misuse (a wrong value reference, a NaN, a parameter set after initialization)
+//! refuse the call and leave the instance as it was, so a master can go on. Errors of the model
+//! itself (a parameter out of its physical range at initialization) move the instance to the
+//! Error mode; a step the solver cannot complete returns fmi2Discard and leaves the instance
+//! at the last communication point.
+
+use std::sync::Arc;
+
+use crate::fmi2::types::{fmi2Discard, fmi2Error, fmi2OK, fmi2Status, fmi2Warning};
+use crate::integrate::{Integrator, DEFAULT_RELATIVE_TOLERANCE};
+use crate::lifecycle::Mode;
+use crate::log::Logger;
+use crate::model::{Model, ModelInfo};
+use crate::state::{Experiment, Shape, Snapshot, SnapshotStore};
+use crate::values::{Derivatives, Knowns, Outputs, Values};
+use crate::variables::{BaseType, Slot, Variable, VariableTable};
+
+/// Why a call did not return fmi2OK: the status to return and the message for the logger.
+#[derive(Debug)]
+pub struct Failure {
+    pub status: fmi2Status,
+    pub message: String,
+}
+
+impl Failure {
+    pub fn error(message: impl Into<String>) -> Self {
+        Failure { status: fmi2Error, message: message.into() }
+    }
+}
+
+pub type CallResult<T = ()> = Result<T, Failure>;
+
+/// A value a master can get or set, typed as FMI types it.
+pub trait FmiValue: Copy {
+    const TYPE: BaseType;
+    fn read(values: &Values, slot: Slot) -> Self;
+    fn write(values: &mut Values, slot: Slot, v: Self);
+    fn check(var: &Variable, v: Self) -> Result<(), String>;
+}
+
+impl FmiValue for f64 {
+    const TYPE: BaseType = BaseType::Real;
+    fn read(values: &Values, slot: Slot) -> f64 {
+        match slot {
+            Slot::Known(i) => values.known[i],
+            Slot::Calculated(i) => values.calculated[i],
+            Slot::Derivative(i) => values.derivatives[i],
+            _ => unreachable!("checked by type"),
+        }
+    }
+    fn write(values: &mut Values, slot: Slot, v: f64) {
+        if let Slot::Known(i) = slot {
+            values.known[i] = v;
+        }
+    }
+    fn check(var: &Variable, v: f64) -> Result<(), String> {
+        var.check_range(v)
+    }
+}
+
+impl FmiValue for i32 {
+    const TYPE: BaseType = BaseType::Integer;
+    fn read(values: &Values, slot: Slot) -> i32 {
+        match slot {
+            Slot::Integer(i) => values.integers[i],
+            _ => unreachable!("checked by type"),
+        }
+    }
+    fn write(values: &mut Values, slot: Slot, v: i32) {
+        if let Slot::Integer(i) = slot {
+            values.integers[i] = v;
+        }
+    }
+    fn check(var: &Variable, v: i32) -> Result<(), String> {
+        var.check_range(v as f64)
+    }
+}
+
+impl FmiValue for bool {
+    const TYPE: BaseType = BaseType::Boolean;
+    fn read(values: &Values, slot: Slot) -> bool {
+        match slot {
+            Slot::Boolean(i) => values.booleans[i],
+            _ => unreachable!("checked by type"),
+        }
+    }
+    fn write(values: &mut Values, slot: Slot, v: bool) {
+        if let Slot::Boolean(i) = slot {
+            values.booleans[i] = v;
+        }
+    }
+    fn check(_: &Variable, _: bool) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+pub struct Instance<M: Model> {
+    model: Arc<M>,
+    table: Arc<VariableTable>,
+    info: ModelInfo,
+    guid: &'static str,
+    pub logger: Logger,
+    pub mode: Mode,
+    experiment: Experiment,
+    values: Values,
+    /// The continuous states at `time` (after initialization; before it, the start values).
+    states: Vec<f64>,
+    time: f64,
+    /// Outputs and derivatives are recomputed lazily, when read after a change.
+    stale: bool,
+    integrator: Option<Integrator>,
+    snapshots: SnapshotStore,
+}
+
+impl<M: Model> Instance<M> {
+    pub fn new(guid: &'static str, logger: Logger) -> Self {
+        let mut d = crate::variables::Declarations::new();
+        let model = Arc::new(M::declare(&mut d));
+        let table = Arc::new(d.into_table());
+        let values = table.start_values();
+        let n_states = table.n_states;
+        let mut inst = Instance {
+            model,
+            table,
+            info: M::info(),
+            guid,
+            logger,
+            mode: Mode::Instantiated,
+            experiment: Experiment::default(),
+            values,
+            states: vec![0.0; n_states],
+            time: 0.0,
+            stale: true,
+            integrator: None,
+            snapshots: SnapshotStore::default(),
+        };
+        inst.load_state_starts();
+        inst
+    }
+
+    pub fn table(&self) -> &VariableTable {
+        &self.table
+    }
+
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Sends a debug message (only with debug logging on).
+    pub fn debug(&self, message: &str) {
+        self.logger.log(fmi2OK, message);
+    }
+
+    fn load_state_starts(&mut self) {
+        for (x, k) in self.states.iter_mut().zip(&self.table.state_known_index) {
+            *x = self.values.known[*k];
+        }
+    }
+
+    fn store_states(&mut self) {
+        for (x, k) in self.states.iter().zip(&self.table.state_known_index) {
+            self.values.known[*k] = *x;
+        }
+    }
+
+    /// Recomputes outputs, locals and derivatives from the knowns if anything changed.
+    fn refresh(&mut self) {
+        if !self.stale {
+            return;
+        }
+        if matches!(self.mode, Mode::Instantiated | Mode::InitializationMode) {
+            self.load_state_starts();
+        }
+        let v = &mut self.values;
+        let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
+        v.derivatives.fill(0.0);
+        self.model.derivatives(&k, &mut Derivatives::new(&mut v.derivatives));
+        self.model.outputs(&k, &mut Outputs::new(&mut v.calculated));
+        self.stale = false;
+    }
+
+    fn variable(&self, vr: u32, expected: BaseType) -> CallResult<&Variable> {
+        let var = self.table.get(vr).ok_or_else(|| {
+            Failure::error(format!("unknown value reference {vr} (this FMU has 0..{})", self.table.variables.len()))
+        })?;
+        if var.base_type() != expected {
+            return Err(Failure::error(format!(
+                "value reference {vr} is the {:?} variable '{}', not a {expected:?}",
+                var.base_type(),
+                var.name
+            )));
+        }
+        Ok(var)
+    }
+
+    /// fmi2GetReal/Integer/Boolean.
+    pub fn get<T: FmiValue>(&mut self, vrs: &[u32], out: &mut [T]) -> CallResult {
+        for vr in vrs {
+            self.variable(*vr, T::TYPE)?;
+        }
+        self.refresh();
+        for (vr, o) in vrs.iter().zip(out.iter_mut()) {
+            *o = T::read(&self.values, self.table.variables[*vr as usize].slot);
+        }
+        Ok(())
+    }
+
+    /// fmi2SetReal/Integer/Boolean: all values are checked before any is written.
+    pub fn set<T: FmiValue>(&mut self, vrs: &[u32], vals: &[T]) -> CallResult {
+        let before_init = matches!(self.mode, Mode::Instantiated | Mode::InitializationMode);
+        for (vr, v) in vrs.iter().zip(vals) {
+            let var = self.variable(*vr, T::TYPE)?;
+            let settable = if before_init { var.is_settable_before_initialization() } else { var.is_settable_while_stepping() };
+            if !settable {
+                let why = match (var.causality, before_init) {
+                    (crate::variables::Causality::Parameter, false) => "a fixed parameter cannot change after initialization",
+                    (crate::variables::Causality::Output, _) => "an output is computed by the FMU",
+                    _ if var.derivative_of.is_some() => "a derivative is computed by the FMU",
+                    _ if !before_init => "only inputs and tunable parameters can be set while stepping",
+                    _ => "it is computed by the FMU",
+                };
+                return Err(Failure::error(format!("cannot set '{}' in mode {}: {why}", var.name, self.mode.name())));
+            }
+            T::check(var, *v).map_err(|e| Failure::error(format!("refused: {e}")))?;
+        }
+        for (vr, v) in vrs.iter().zip(vals) {
+            let slot = self.table.variables[*vr as usize].slot;
+            T::write(&mut self.values, slot, *v);
+        }
+        self.stale = true;
+        Ok(())
+    }
+
+    pub fn setup_experiment(&mut self, tolerance: Option<f64>, start_time: f64, stop_time: Option<f64>) -> CallResult {
+        if let Some(tol) = tolerance {
+            if !(tol.is_finite() && tol > 0.0 && tol < 1.0) {
+                return Err(Failure::error(format!("tolerance {tol} must be a number in (0, 1)")));
+            }
+        }
+        if !start_time.is_finite() {
+            return Err(Failure::error(format!("start time {start_time} is not finite")));
+        }
+        if let Some(stop) = stop_time {
+            if !(stop.is_finite() && stop >= start_time) {
+                return Err(Failure::error(format!("stop time {stop} must be finite and not before the start time {start_time}")));
+            }
+        }
+        self.experiment = Experiment { tolerance, start_time, stop_time };
+        self.time = start_time;
+        self.stale = true;
+        self.debug(&format!("experiment: start {start_time} s, stop {stop_time:?} s, tolerance {tolerance:?}"));
+        Ok(())
+    }
+
+    pub fn enter_initialization_mode(&mut self) -> CallResult {
+        self.mode = Mode::InitializationMode;
+        self.time = self.experiment.start_time;
+        self.stale = true;
+        self.debug("entered initialization mode");
+        Ok(())
+    }
+
+    /// Checks every parameter against its physical range and the model's own relations; a
+    /// violation moves the instance to the Error mode with a message naming the parameter.
+    pub fn exit_initialization_mode(&mut self) -> CallResult {
+        if let Err(message) = self.check_parameters() {
+            self.mode = Mode::Error;
+            return Err(Failure::error(format!("initialization failed: {message}")));
+        }
+        self.load_state_starts();
+        match self.make_integrator() {
+            Ok(integrator) => self.integrator = Some(integrator),
+            Err(message) => {
+                self.mode = Mode::Error;
+                return Err(Failure::error(message));
+            }
+        }
+        self.mode = Mode::StepComplete;
+        self.stale = true;
+        self.debug("initialization done");
+        Ok(())
+    }
+
+    fn check_parameters(&self) -> Result<(), String> {
+        for var in &self.table.variables {
+            match var.slot {
+                Slot::Known(i) => var.check_range(self.values.known[i])?,
+                Slot::Integer(i) => var.check_range(self.values.integers[i] as f64)?,
+                _ => {}
+            }
+        }
+        let v = &self.values;
+        let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
+        self.model.check(&k)
+    }
+
+    fn make_integrator(&self) -> Result<Integrator, String> {
+        Integrator::new(
+            self.model.clone(),
+            &self.values.known,
+            &self.values.integers,
+            &self.values.booleans,
+            self.table.n_states,
+            self.info.solver,
+            self.experiment.tolerance.unwrap_or(DEFAULT_RELATIVE_TOLERANCE),
+            &self.table.state_nominals(),
+        )
+    }
+
+    /// fmi2DoStep: integrate from the communication point to the next one.
+    pub fn do_step(&mut self, t: f64, h: f64) -> CallResult {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(Failure::error(format!("communication step size {h} must be a finite number > 0")));
+        }
+        if !t.is_finite() {
+            return Err(Failure::error(format!("communication point {t} is not finite")));
+        }
+        let tolerance = 64.0 * f64::EPSILON * self.time.abs().max(t.abs()) + 1e-6 * h;
+        if (t - self.time).abs() > tolerance {
+            return Err(Failure::error(format!(
+                "communication point {t} s does not match this instance's time {} s (use fmi2SetFMUstate to go back)",
+                self.time
+            )));
+        }
+        let t_end = t + h;
+        let mut x = self.states.clone();
+        let integrator = self.integrator.as_mut().expect("made at the end of initialization");
+        if let Err(message) = integrator.advance(&self.values.known, t, &mut x, t_end) {
+            self.mode = Mode::StepFailed;
+            return Err(Failure {
+                status: fmi2Discard,
+                message: format!("step from {t} s to {t_end} s discarded, the instance stays at {t} s: {message}"),
+            });
+        }
+        self.states = x;
+        self.time = t_end;
+        self.store_states();
+        self.stale = true;
+        Ok(())
+    }
+
+    pub fn terminate(&mut self) -> CallResult {
+        self.mode = Mode::Terminated;
+        self.debug("terminated");
+        Ok(())
+    }
+
+    /// fmi2Reset: back to the state right after fmi2Instantiate (saved FMU states stay valid).
+    pub fn reset(&mut self) -> CallResult {
+        self.values = self.table.start_values();
+        self.experiment = Experiment::default();
+        self.time = 0.0;
+        self.integrator = None;
+        self.mode = Mode::Instantiated;
+        self.load_state_starts();
+        self.stale = true;
+        self.debug("reset");
+        Ok(())
+    }
+
+    pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> CallResult {
+        self.logger.set_debug_logging(on, categories).map_err(Failure::error)
+    }
+
+    /// fmi2GetRealStatus(fmi2LastSuccessfulTime).
+    pub fn last_successful_time(&self) -> f64 {
+        self.time
+    }
+
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            mode: self.mode,
+            time: self.time,
+            experiment: self.experiment,
+            values: self.values.clone(),
+            states: self.states.clone(),
+            step_size: self.integrator.as_ref().and_then(|i| i.step_size),
+        }
+    }
+
+    fn restore(&mut self, s: Snapshot) -> CallResult {
+        let initialized = !matches!(s.mode, Mode::Instantiated | Mode::InitializationMode);
+        self.mode = s.mode;
+        self.time = s.time;
+        self.experiment = s.experiment;
+        self.values = s.values;
+        self.states = s.states;
+        self.stale = true;
+        self.integrator = None;
+        if initialized {
+            let mut integrator = self.make_integrator().map_err(Failure::error)?;
+            integrator.step_size = s.step_size;
+            self.integrator = Some(integrator);
+        }
+        Ok(())
+    }
+
+    /// fmi2GetFMUstate: a new handle (`existing` = None) or overwrite a live one.
+    pub fn get_fmu_state(&mut self, existing: Option<usize>) -> CallResult<usize> {
+        let s = self.snapshot();
+        match existing {
+            None => self.snapshots.insert(s).map_err(Failure::error),
+            Some(h) if self.snapshots.replace(h, s) => Ok(h),
+            Some(h) => Err(Failure::error(format!("FMU state {h:#x} is not a live state of this instance (freed or never made here)"))),
+        }
+    }
+
+    pub fn set_fmu_state(&mut self, handle: usize) -> CallResult {
+        let s = self
+            .snapshots
+            .get(handle)
+            .cloned()
+            .ok_or_else(|| Failure::error(format!("FMU state {handle:#x} is not a live state of this instance (freed or never made here)")))?;
+        self.restore(s)?;
+        self.debug(&format!("restored the FMU state of t = {} s", self.time));
+        Ok(())
+    }
+
+    pub fn free_fmu_state(&mut self, handle: usize) -> CallResult {
+        if self.snapshots.remove(handle) {
+            Ok(())
+        } else {
+            Err(Failure::error(format!("FMU state {handle:#x} was already freed or was never made by this instance")))
+        }
+    }
+
+    pub fn serialize_fmu_state(&self, handle: usize) -> CallResult<Vec<u8>> {
+        self.snapshots
+            .get(handle)
+            .map(|s| s.serialize(self.guid))
+            .ok_or_else(|| Failure::error(format!("FMU state {handle:#x} is not a live state of this instance")))
+    }
+
+    pub fn deserialize_fmu_state(&mut self, bytes: &[u8], existing: Option<usize>) -> CallResult<usize> {
+        let t = &self.table;
+        let shape = Shape { known: t.n_known, calculated: t.n_calculated, states: t.n_states, integers: t.n_integers, booleans: t.n_booleans };
+        let s = Snapshot::deserialize(bytes, self.guid, &shape).map_err(Failure::error)?;
+        match existing {
+            None => self.snapshots.insert(s).map_err(Failure::error),
+            Some(h) if self.snapshots.replace(h, s) => Ok(h),
+            Some(h) => Err(Failure::error(format!("FMU state {h:#x} is not a live state of this instance"))),
+        }
+    }
+
+    /// Sends the message of a failed call to the master's logger.
+    pub fn report(&self, failure: &Failure) {
+        let status = if failure.status == fmi2OK { fmi2Warning } else { failure.status };
+        self.logger.log(status, &failure.message);
+    }
+}

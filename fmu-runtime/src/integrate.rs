@@ -1,0 +1,207 @@
+//! How a model's ODE advances over one communication step: diffsol underneath.
+//!
+//! The `OdeSolverProblem` is built once per instance (at the end of initialization). Its
+//! parameter vector is the instance's store of known reals (parameters, inputs, state start
+//! values), refreshed before each step, so inputs set by the master between steps are held
+//! constant over the step (zero-order hold). Each `advance` makes the solver from our own
+//! `(t, x, h)` — the communication point, the state and the step size the solver reached last —
+//! so that an FMU state saved and restored (or serialized) continues bit-identically: nothing
+//! else carries over between steps. The instance keeps its own exact time; the solver's time
+//! after `TstopReached` is never trusted over it.
+
+use std::sync::Arc;
+
+use diffsol::{
+    Closure, ConstantClosure, NalgebraLU, NalgebraMat, NalgebraVec, OdeBuilder, OdeSolverEquations,
+    OdeEquations, OdeSolverMethod, OdeSolverProblem, OdeSolverState, OdeSolverStopReason, RkState,
+    UnitCallable, Vector,
+};
+use diffsol::ode_solver::state::StateCommon;
+
+use crate::model::{Model, Solver};
+use crate::values::{Derivatives, Knowns};
+
+type Mat = NalgebraMat<f64>;
+type Vect = NalgebraVec<f64>;
+type RhsFn = Box<dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync>;
+type JacFn = Box<dyn Fn(&[f64], &[f64], f64, &[f64], &mut [f64]) + Send + Sync>;
+type InitFn = Box<dyn Fn(&[f64], f64, &mut [f64]) + Send + Sync>;
+type Unit = UnitCallable<Mat>;
+type Equations = OdeSolverEquations<Mat, Closure<Mat, RhsFn, JacFn>, ConstantClosure<Mat, InitFn>, Unit, Unit, Unit, Unit>;
+
+/// Internal solver steps allowed in one communication step before it is abandoned: a bound
+/// that turns a runaway (a model that became too stiff for an explicit method, a state blowing
+/// up) into an error message instead of a hang.
+pub const MAX_INTERNAL_STEPS: usize = 200_000;
+
+/// Relative tolerance when the master gives none in fmi2SetupExperiment.
+pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-6;
+
+/// Absolute tolerance of state i = `ABSOLUTE_PER_RELATIVE * rtol * nominal_i`.
+pub const ABSOLUTE_PER_RELATIVE: f64 = 1e-3;
+
+/// The right-hand side f(t, x) of a model at fixed parameters and inputs, as diffsol calls it.
+fn rhs_of<M: Model>(model: Arc<M>, integers: Arc<[i32]>, booleans: Arc<[bool]>) -> impl Fn(&[f64], &[f64], f64, &mut [f64]) + Clone {
+    move |x: &[f64], p: &[f64], t: f64, dx: &mut [f64]| {
+        let k = Knowns::new(t, p, x, &integers, &booleans);
+        dx.fill(0.0);
+        model.derivatives(&k, &mut Derivatives::new(dx));
+    }
+}
+
+/// One instance's ODE integrator.
+pub struct Integrator {
+    problem: OdeSolverProblem<Equations>,
+    rhs: RhsFn,
+    method: Solver,
+    rtol: f64,
+    atol: Vec<f64>,
+    /// The step size the solver reached at the end of the last communication step
+    /// (None before the first step: diffsol's starting-step heuristic then chooses).
+    pub step_size: Option<f64>,
+}
+
+impl Integrator {
+    /// Builds the problem for a model whose integer and boolean parameters are fixed from now on.
+    pub fn new<M: Model>(
+        model: Arc<M>,
+        known: &[f64],
+        integers: &[i32],
+        booleans: &[bool],
+        n_states: usize,
+        method: Solver,
+        rtol: f64,
+        nominals: &[f64],
+    ) -> Result<Self, String> {
+        let integers: Arc<[i32]> = integers.into();
+        let booleans: Arc<[bool]> = booleans.into();
+        let f = rhs_of(model, integers, booleans);
+        let f_jac = f.clone();
+        // Jacobian-vector product by a forward difference along v (exact Jacobians come with
+        // the Model Exchange issue); only the implicit method calls it.
+        let jac: JacFn = Box::new(move |x: &[f64], p: &[f64], t: f64, v: &[f64], jv: &mut [f64]| {
+            let norm_v = v.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            if norm_v == 0.0 {
+                jv.fill(0.0);
+                return;
+            }
+            let norm_x = x.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            let eps = f64::EPSILON.sqrt() * (1.0 + norm_x) / norm_v;
+            let shifted: Vec<f64> = x.iter().zip(v).map(|(xi, vi)| xi + eps * vi).collect();
+            let mut f0 = vec![0.0; x.len()];
+            f_jac(x, p, t, &mut f0);
+            f_jac(&shifted, p, t, jv);
+            for (j, f0i) in jv.iter_mut().zip(&f0) {
+                *j = (*j - f0i) / eps;
+            }
+        });
+        let rhs: RhsFn = Box::new(f.clone());
+        let init: InitFn = Box::new(move |_p: &[f64], _t: f64, y: &mut [f64]| y.fill(0.0));
+        let atol: Vec<f64> = nominals.iter().map(|n| ABSOLUTE_PER_RELATIVE * rtol * n.abs().max(f64::MIN_POSITIVE)).collect();
+        let problem = OdeBuilder::<Mat>::new()
+            .rtol(rtol)
+            .atol(atol.clone())
+            .p(known.iter().copied())
+            .rhs_implicit(Box::new(f) as RhsFn, jac)
+            .init(init, n_states)
+            .build()
+            .map_err(|e| format!("could not set up the ODE solver: {e}"))?;
+        Ok(Integrator { problem, rhs, method, rtol, atol, step_size: None })
+    }
+
+    /// Advances `x` from `t0` to `t1` with the knowns held at `known`. On error `x` is left
+    /// unchanged and the message says why (the caller reports it through the FMI logger).
+    pub fn advance(&mut self, known: &[f64], t0: f64, x: &mut [f64], t1: f64) -> Result<(), String> {
+        if x.is_empty() {
+            return Ok(());
+        }
+        // A step so short that t0 + h rounds to t0 (relative to t0) cannot be resolved by a
+        // solver's stop time; one explicit Euler step is exact to O(h^2) there.
+        if t1 - t0 <= 8.0 * f64::EPSILON * t0.abs().max(1.0) {
+            let mut dx = vec![0.0; x.len()];
+            (self.rhs)(x, known, t0, &mut dx);
+            for (xi, d) in x.iter_mut().zip(&dx) {
+                *xi += (t1 - t0) * d;
+            }
+            return check_finite(x, t1);
+        }
+        let ctx = *self.problem.context();
+        self.problem.eqn_mut().set_params(&Vect::from_slice(known, ctx));
+        let y = Vect::from_slice(x, ctx);
+        let mut dx = vec![0.0; x.len()];
+        (self.rhs)(x, known, t0, &mut dx);
+        let dy = Vect::from_vec(dx, ctx);
+        let empty = || Vect::zeros(0, ctx);
+        let mut state = RkState::new_from_common(StateCommon {
+            y,
+            dy,
+            g: empty(),
+            dg: empty(),
+            s: empty(),
+            ds: empty(),
+            sg: empty(),
+            dsg: empty(),
+            t: t0,
+            h: self.step_size.unwrap_or(self.problem.h0),
+        });
+        let order = match self.method {
+            Solver::ExplicitRungeKutta => 4,
+            Solver::ImplicitRungeKutta => 3,
+        };
+        if self.step_size.is_none() {
+            let atol = Vect::from_slice(&self.atol, ctx);
+            state.as_mut().set_step_size(self.problem.h0, &atol, self.rtol, &self.problem.eqn, order);
+        }
+        let (y, h) = match self.method {
+            Solver::ExplicitRungeKutta => {
+                let solver = self.problem.tsit45_solver(state).map_err(|e| e.to_string())?;
+                run_to(solver, t1)?
+            }
+            Solver::ImplicitRungeKutta => {
+                let solver = self.problem.esdirk34_solver::<NalgebraLU<f64>>(state).map_err(|e| e.to_string())?;
+                run_to(solver, t1)?
+            }
+        };
+        check_finite(&y, t1)?;
+        x.copy_from_slice(&y);
+        self.step_size = Some(h);
+        Ok(())
+    }
+}
+
+fn check_finite(x: &[f64], t: f64) -> Result<(), String> {
+    match x.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(format!("state {i} became {} at t = {t} s", x[i])),
+        None => Ok(()),
+    }
+}
+
+/// Steps a solver until its stop time `t1`; returns the state at `t1` and the step size reached.
+fn run_to<'a, S>(mut solver: S, t1: f64) -> Result<(Vec<f64>, f64), String>
+where
+    S: OdeSolverMethod<'a, Equations>,
+{
+    solver.set_stop_time(t1).map_err(|e| format!("could not set the stop time {t1} s: {e}"))?;
+    for _ in 0..MAX_INTERNAL_STEPS {
+        match solver.step() {
+            Ok(OdeSolverStopReason::TstopReached) => {
+                let state = solver.state();
+                let h = state.h;
+                // Trust our own t1, not the solver's rounding of it.
+                let y = if state.t == t1 { state.y.clone_as_vec() } else {
+                    solver.interpolate(t1).map(|v| v.clone_as_vec()).unwrap_or_else(|_| state.y.clone_as_vec())
+                };
+                return Ok((y, h));
+            }
+            Ok(_) => {}
+            Err(e) => {
+                return Err(format!("the ODE solver failed at t = {} s: {e}", solver.state().t));
+            }
+        }
+    }
+    Err(format!(
+        "the ODE solver needed more than {MAX_INTERNAL_STEPS} internal steps to reach t = {t1} s \
+         (stopped at t = {} s); the model may be too stiff for its solver or unstable",
+        solver.state().t
+    ))
+}

@@ -1,0 +1,65 @@
+//! The `Model` trait: what a model author writes. Plain physics — declarations, derivatives,
+//! outputs — with no FMI, no XML and no unsafe code. The runtime derives the rest.
+
+use crate::values::{Derivatives, Knowns, Outputs};
+use crate::variables::Declarations;
+
+/// How `fmi2DoStep` integrates the model's ODE (see `integrate.rs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Solver {
+    /// Explicit Runge-Kutta (Tsitouras 5(4), diffsol `tsit45`): non-stiff models.
+    ExplicitRungeKutta,
+    /// Singly diagonally implicit Runge-Kutta (ESDIRK3(4), diffsol `esdirk34`): stiff models,
+    /// e.g. electrical time constants beside seconds of mechanics. A single-step method, so a
+    /// communication point costs it no history (unlike BDF).
+    ImplicitRungeKutta,
+}
+
+/// The experiment a model suggests (FMI `DefaultExperiment`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DefaultExperiment {
+    pub start_time: f64,
+    pub stop_time: f64,
+    /// Communication step a master should use to see the dynamics, s.
+    pub step_size: f64,
+}
+
+/// What a model says about itself.
+#[derive(Clone, Debug)]
+pub struct ModelInfo {
+    /// FMI model name, modelIdentifier and the name of the `.fmu`: a C identifier.
+    pub name: &'static str,
+    /// One sentence: what the model is and where it comes from.
+    pub description: &'static str,
+    pub default_experiment: DefaultExperiment,
+    pub solver: Solver,
+    /// An HTML fragment for documentation/index.html: the equations and the reasoning behind
+    /// the chosen parameter values. The runtime adds the variable tables.
+    pub documentation: &'static str,
+}
+
+/// A lumped-parameter model: an ODE dx/dt = f(t, x, p, u) with outputs y = g(t, x, p, u).
+///
+/// The struct implementing it holds only the handles returned by its declarations; every
+/// value lives in the instance, so the same equations serve Co-Simulation (and later Model
+/// Exchange), FMU state save/restore and the generated modelDescription.xml.
+pub trait Model: Sized + Send + Sync + 'static {
+    /// Name, description, default experiment, solver choice, documentation.
+    fn info() -> ModelInfo;
+
+    /// Declares every variable once (name, start, unit, bounds, description) and keeps the
+    /// handles. Value references follow declaration order.
+    fn declare(d: &mut Declarations) -> Self;
+
+    /// Checks relations between parameters that per-variable min/max cannot express; called
+    /// when initialization ends. The message names the offending parameter.
+    fn check(&self, _k: &Knowns) -> Result<(), String> {
+        Ok(())
+    }
+
+    /// The state derivatives dx/dt at the knowns `k`.
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives);
+
+    /// The outputs, locals and calculated parameters at the knowns `k`.
+    fn outputs(&self, k: &Knowns, out: &mut Outputs);
+}

@@ -1,0 +1,343 @@
+//! FMU state: get/set/free and serialize/deserialize (FMI 2.0, section 2.1.8).
+//!
+//! A saved state is a [`Snapshot`] of values only (never pointers), held by the instance that
+//! made it in a [`SnapshotStore`]. The `fmi2FMUstate` the master receives is an opaque handle
+//! (slot and generation), not an address: a handle used after it was freed, freed twice, or
+//! made up is recognised and refused with fmi2Error instead of touching freed memory.
+//!
+//! Serialized bytes: `MAGIC`, format version, the FMU's guid, the payload, and an FNV-1a 64
+//! checksum of everything before it. Bytes from another FMU (guid), another format version, a
+//! truncated or corrupted buffer are refused with a message saying which.
+
+use crate::lifecycle::Mode;
+use crate::values::Values;
+
+pub const MAGIC: &[u8; 8] = b"FMURSST\0";
+pub const FORMAT_VERSION: u32 = 1;
+
+/// The experiment set by fmi2SetupExperiment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Experiment {
+    pub tolerance: Option<f64>,
+    pub start_time: f64,
+    pub stop_time: Option<f64>,
+}
+
+impl Default for Experiment {
+    fn default() -> Self {
+        Experiment { tolerance: None, start_time: 0.0, stop_time: None }
+    }
+}
+
+/// Everything an instance needs to continue exactly from a saved point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snapshot {
+    pub mode: Mode,
+    pub time: f64,
+    pub experiment: Experiment,
+    pub values: Values,
+    pub states: Vec<f64>,
+    /// The solver's step size at this point (None before the first step).
+    pub step_size: Option<f64>,
+}
+
+/// FNV-1a, 64 bit. Any change of a single byte changes the hash (each step is a bijection).
+pub fn fnv1a64(seed: u64, bytes: &[u8]) -> u64 {
+    let mut h = seed;
+    for b in bytes {
+        h ^= *b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
+struct Writer(Vec<u8>);
+
+impl Writer {
+    fn u8(&mut self, v: u8) {
+        self.0.push(v);
+    }
+    fn u32(&mut self, v: u32) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    fn f64(&mut self, v: f64) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    fn opt(&mut self, v: Option<f64>) {
+        self.u8(v.is_some() as u8);
+        self.f64(v.unwrap_or(0.0));
+    }
+    fn reals(&mut self, v: &[f64]) {
+        self.u32(v.len() as u32);
+        v.iter().for_each(|x| self.f64(*x));
+    }
+}
+
+struct Reader<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize) -> Result<&[u8], String> {
+        let end = self.pos.checked_add(n).filter(|e| *e <= self.bytes.len()).ok_or_else(|| {
+            format!("the serialized FMU state is truncated (needed {} bytes at offset {}, {} in all)", n, self.pos, self.bytes.len())
+        })?;
+        let s = &self.bytes[self.pos..end];
+        self.pos = end;
+        Ok(s)
+    }
+    fn u8(&mut self) -> Result<u8, String> {
+        Ok(self.take(1)?[0])
+    }
+    fn u32(&mut self) -> Result<u32, String> {
+        Ok(u32::from_le_bytes(self.take(4)?.try_into().unwrap()))
+    }
+    fn f64(&mut self) -> Result<f64, String> {
+        Ok(f64::from_le_bytes(self.take(8)?.try_into().unwrap()))
+    }
+    fn opt(&mut self) -> Result<Option<f64>, String> {
+        let some = self.u8()?;
+        let v = self.f64()?;
+        Ok((some != 0).then_some(v))
+    }
+    fn reals(&mut self, what: &str, expected: usize) -> Result<Vec<f64>, String> {
+        let n = self.u32()? as usize;
+        if n != expected {
+            return Err(format!("the serialized FMU state has {n} {what}, this FMU has {expected}"));
+        }
+        (0..n).map(|_| self.f64()).collect()
+    }
+}
+
+/// The sizes a state must have to fit this FMU.
+pub struct Shape {
+    pub known: usize,
+    pub calculated: usize,
+    pub states: usize,
+    pub integers: usize,
+    pub booleans: usize,
+}
+
+impl Snapshot {
+    /// The bytes of this state, for an FMU with this guid.
+    pub fn serialize(&self, guid: &str) -> Vec<u8> {
+        let mut w = Writer(Vec::with_capacity(64 + 8 * (self.values.known.len() + self.values.calculated.len())));
+        w.0.extend_from_slice(MAGIC);
+        w.u32(FORMAT_VERSION);
+        w.u32(guid.len() as u32);
+        w.0.extend_from_slice(guid.as_bytes());
+        w.u32(self.mode as u16 as u32);
+        w.f64(self.time);
+        w.opt(self.experiment.tolerance);
+        w.f64(self.experiment.start_time);
+        w.opt(self.experiment.stop_time);
+        w.opt(self.step_size);
+        w.reals(&self.values.known);
+        w.reals(&self.values.calculated);
+        w.reals(&self.values.derivatives);
+        w.reals(&self.states);
+        w.u32(self.values.integers.len() as u32);
+        self.values.integers.iter().for_each(|i| w.u32(*i as u32));
+        w.u32(self.values.booleans.len() as u32);
+        self.values.booleans.iter().for_each(|b| w.u8(*b as u8));
+        let sum = fnv1a64(FNV_OFFSET, &w.0);
+        w.0.extend_from_slice(&sum.to_le_bytes());
+        w.0
+    }
+
+    /// Reads bytes made by `serialize` of an FMU with this guid and shape.
+    pub fn deserialize(bytes: &[u8], guid: &str, shape: &Shape) -> Result<Snapshot, String> {
+        if bytes.len() < MAGIC.len() + 8 + 8 || &bytes[..MAGIC.len()] != MAGIC {
+            return Err("these bytes are not a serialized FMU state of this runtime (wrong magic number or too short)".into());
+        }
+        let (body, sum) = bytes.split_at(bytes.len() - 8);
+        let mut r = Reader { bytes: body, pos: MAGIC.len() };
+        let version = r.u32()?;
+        if version != FORMAT_VERSION {
+            return Err(format!("serialized FMU state format version {version}, this FMU reads version {FORMAT_VERSION}"));
+        }
+        let guid_len = r.u32()? as usize;
+        let their_guid = r.take(guid_len)?;
+        if their_guid != guid.as_bytes() {
+            return Err(format!(
+                "the serialized FMU state belongs to another FMU (guid {}, this FMU is {guid})",
+                String::from_utf8_lossy(their_guid)
+            ));
+        }
+        if fnv1a64(FNV_OFFSET, body).to_le_bytes() != sum {
+            return Err("the serialized FMU state is corrupted (checksum mismatch)".into());
+        }
+        let mode_bits = r.u32()?;
+        let mode = u16::try_from(mode_bits)
+            .ok()
+            .and_then(Mode::from_bits)
+            .filter(|m| !matches!(m, Mode::Fatal | Mode::StepInProgress))
+            .ok_or_else(|| format!("the serialized FMU state has an invalid mode {mode_bits}"))?;
+        let time = r.f64()?;
+        let tolerance = r.opt()?;
+        let start_time = r.f64()?;
+        let stop_time = r.opt()?;
+        let step_size = r.opt()?;
+        let known = r.reals("known reals", shape.known)?;
+        let calculated = r.reals("calculated reals", shape.calculated)?;
+        let derivatives = r.reals("derivatives", shape.states)?;
+        let states = r.reals("states", shape.states)?;
+        let n_int = r.u32()? as usize;
+        if n_int != shape.integers {
+            return Err(format!("the serialized FMU state has {n_int} integers, this FMU has {}", shape.integers));
+        }
+        let integers = (0..n_int).map(|_| r.u32().map(|v| v as i32)).collect::<Result<Vec<_>, _>>()?;
+        let n_bool = r.u32()? as usize;
+        if n_bool != shape.booleans {
+            return Err(format!("the serialized FMU state has {n_bool} booleans, this FMU has {}", shape.booleans));
+        }
+        let booleans = (0..n_bool).map(|_| r.u8().map(|v| v != 0)).collect::<Result<Vec<_>, _>>()?;
+        if r.pos != body.len() {
+            return Err(format!("the serialized FMU state has {} unexpected trailing bytes", body.len() - r.pos));
+        }
+        Ok(Snapshot {
+            mode,
+            time,
+            experiment: Experiment { tolerance, start_time, stop_time },
+            values: Values { known, calculated, derivatives, integers, booleans },
+            states,
+            step_size,
+        })
+    }
+}
+
+/// The saved states of one instance, addressed by opaque handles.
+#[derive(Default)]
+pub struct SnapshotStore {
+    slots: Vec<(u32, Option<Snapshot>)>,
+    next_generation: u32,
+}
+
+const SLOT_BITS: u32 = 20;
+
+impl SnapshotStore {
+    fn decode(&self, handle: usize) -> Option<usize> {
+        let slot = (handle & ((1 << SLOT_BITS) - 1)).checked_sub(1)?;
+        let generation = (handle >> SLOT_BITS) as u64;
+        match self.slots.get(slot) {
+            Some((g, Some(_))) if *g as u64 == generation => Some(slot),
+            _ => None,
+        }
+    }
+
+    /// Stores a new snapshot; returns its handle (never 0).
+    pub fn insert(&mut self, s: Snapshot) -> Result<usize, String> {
+        self.next_generation = self.next_generation.wrapping_add(1);
+        let generation = self.next_generation;
+        let slot = match self.slots.iter().position(|(_, v)| v.is_none()) {
+            Some(i) => i,
+            None if self.slots.len() < (1 << SLOT_BITS) - 1 => {
+                self.slots.push((0, None));
+                self.slots.len() - 1
+            }
+            None => return Err("too many FMU states are alive in this instance; free some".into()),
+        };
+        self.slots[slot] = (generation, Some(s));
+        Ok(((generation as usize) << SLOT_BITS) | (slot + 1))
+    }
+
+    pub fn get(&self, handle: usize) -> Option<&Snapshot> {
+        self.decode(handle).and_then(|i| self.slots[i].1.as_ref())
+    }
+
+    /// Overwrites the snapshot behind a live handle.
+    pub fn replace(&mut self, handle: usize, s: Snapshot) -> bool {
+        match self.decode(handle) {
+            Some(i) => {
+                self.slots[i].1 = Some(s);
+                true
+            }
+            None => false,
+        }
+    }
+
+    pub fn remove(&mut self, handle: usize) -> bool {
+        match self.decode(handle) {
+            Some(i) => {
+                self.slots[i].1 = None;
+                true
+            }
+            None => false,
+        }
+    }
+
+    pub fn live(&self) -> usize {
+        self.slots.iter().filter(|(_, s)| s.is_some()).count()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Snapshot {
+        Snapshot {
+            mode: Mode::StepComplete,
+            time: 0.05,
+            experiment: Experiment { tolerance: Some(1e-7), start_time: 0.0, stop_time: None },
+            values: Values {
+                known: vec![1.0, 2.0, -3.5],
+                calculated: vec![0.25],
+                derivatives: vec![9.0],
+                integers: vec![3],
+                booleans: vec![true],
+            },
+            states: vec![4.0],
+            step_size: Some(1e-5),
+        }
+    }
+
+    fn shape() -> Shape {
+        Shape { known: 3, calculated: 1, states: 1, integers: 1, booleans: 1 }
+    }
+
+    #[test]
+    fn round_trip_is_exact() {
+        let s = sample();
+        let bytes = s.serialize("{guid}");
+        assert_eq!(Snapshot::deserialize(&bytes, "{guid}", &shape()).unwrap(), s);
+    }
+
+    #[test]
+    fn every_single_bit_flip_and_every_truncation_is_refused() {
+        let bytes = sample().serialize("{guid}");
+        for i in 0..bytes.len() * 8 {
+            let mut b = bytes.clone();
+            b[i / 8] ^= 1 << (i % 8);
+            assert!(Snapshot::deserialize(&b, "{guid}", &shape()).is_err(), "bit {i}");
+        }
+        for n in 0..bytes.len() {
+            assert!(Snapshot::deserialize(&bytes[..n], "{guid}", &shape()).is_err(), "length {n}");
+        }
+    }
+
+    #[test]
+    fn another_fmus_state_is_refused_by_guid() {
+        let bytes = sample().serialize("{other}");
+        let err = Snapshot::deserialize(&bytes, "{guid}", &shape()).unwrap_err();
+        assert!(err.contains("another FMU"), "{err}");
+    }
+
+    #[test]
+    fn handles_are_not_reusable_after_free() {
+        let mut store = SnapshotStore::default();
+        let a = store.insert(sample()).unwrap();
+        assert!(store.remove(a));
+        assert!(!store.remove(a), "double free must be detected");
+        let b = store.insert(sample()).unwrap();
+        assert_ne!(a, b, "a reused slot gets a new generation");
+        assert!(store.get(a).is_none());
+        assert!(store.get(b).is_some());
+        assert!(store.get(12345).is_none());
+        assert!(store.get(0).is_none());
+        assert_eq!(store.live(), 1);
+    }
+}

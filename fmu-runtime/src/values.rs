@@ -1,0 +1,140 @@
+//! The values of one instance, and the typed views a model's equations read and write.
+//!
+//! A model never sees value references: it reads knowns through [`Knowns`] (`k[r_series]`,
+//! `k[i_l]`, `k.time()`), writes outputs through [`Outputs`] (`out[i_absorbed] = ...`) and state
+//! derivatives through [`Derivatives`] (`der[i_l] = ...`). The handles come from the model's own
+//! declarations, so an index can never point at the wrong kind of variable.
+
+use std::ops::{Index, IndexMut};
+
+use crate::variables::{BooleanParameter, Input, IntegerParameter, Local, Output, Parameter, State};
+
+/// The stores of one instance, each indexed by the slot the declaration gave.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Values {
+    /// Parameters, inputs and state start values.
+    pub known: Vec<f64>,
+    /// Outputs, locals and calculated parameters.
+    pub calculated: Vec<f64>,
+    /// State derivatives at the current time.
+    pub derivatives: Vec<f64>,
+    pub integers: Vec<i32>,
+    pub booleans: Vec<bool>,
+}
+
+/// What the equations may read at one instant: time, parameters, inputs, states.
+pub struct Knowns<'a> {
+    pub(crate) time: f64,
+    pub(crate) known: &'a [f64],
+    pub(crate) states: &'a [f64],
+    pub(crate) integers: &'a [i32],
+    pub(crate) booleans: &'a [bool],
+}
+
+impl<'a> Knowns<'a> {
+    /// Builds a view; `known` is the known-reals store, `states` the current state vector.
+    pub fn new(time: f64, known: &'a [f64], states: &'a [f64], integers: &'a [i32], booleans: &'a [bool]) -> Self {
+        Knowns { time, known, states, integers, booleans }
+    }
+
+    /// Simulation time, s.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+}
+
+impl Index<Parameter> for Knowns<'_> {
+    type Output = f64;
+    fn index(&self, p: Parameter) -> &f64 {
+        &self.known[p.0]
+    }
+}
+
+impl Index<Input> for Knowns<'_> {
+    type Output = f64;
+    fn index(&self, u: Input) -> &f64 {
+        &self.known[u.0]
+    }
+}
+
+impl Index<State> for Knowns<'_> {
+    type Output = f64;
+    fn index(&self, x: State) -> &f64 {
+        &self.states[x.state]
+    }
+}
+
+impl Index<IntegerParameter> for Knowns<'_> {
+    type Output = i32;
+    fn index(&self, n: IntegerParameter) -> &i32 {
+        &self.integers[n.0]
+    }
+}
+
+impl Index<BooleanParameter> for Knowns<'_> {
+    type Output = bool;
+    fn index(&self, b: BooleanParameter) -> &bool {
+        &self.booleans[b.0]
+    }
+}
+
+/// Where `Model::outputs` writes outputs, locals and calculated parameters.
+pub struct Outputs<'a> {
+    pub(crate) calculated: &'a mut [f64],
+}
+
+impl<'a> Outputs<'a> {
+    pub fn new(calculated: &'a mut [f64]) -> Self {
+        Outputs { calculated }
+    }
+}
+
+impl Index<Output> for Outputs<'_> {
+    type Output = f64;
+    fn index(&self, y: Output) -> &f64 {
+        &self.calculated[y.0]
+    }
+}
+
+impl IndexMut<Output> for Outputs<'_> {
+    fn index_mut(&mut self, y: Output) -> &mut f64 {
+        &mut self.calculated[y.0]
+    }
+}
+
+impl Index<Local> for Outputs<'_> {
+    type Output = f64;
+    fn index(&self, y: Local) -> &f64 {
+        &self.calculated[y.0]
+    }
+}
+
+impl IndexMut<Local> for Outputs<'_> {
+    fn index_mut(&mut self, y: Local) -> &mut f64 {
+        &mut self.calculated[y.0]
+    }
+}
+
+/// Where `Model::derivatives` writes dx/dt, one entry per state.
+pub struct Derivatives<'a> {
+    pub(crate) rates: &'a mut [f64],
+}
+
+impl<'a> Derivatives<'a> {
+    pub fn new(rates: &'a mut [f64]) -> Self {
+        Derivatives { rates }
+    }
+}
+
+impl Index<State> for Derivatives<'_> {
+    type Output = f64;
+    fn index(&self, x: State) -> &f64 {
+        &self.rates[x.state]
+    }
+}
+
+impl IndexMut<State> for Derivatives<'_> {
+    fn index_mut(&mut self, x: State) -> &mut f64 {
+        &mut self.rates[x.state]
+    }
+}

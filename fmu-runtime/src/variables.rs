@@ -1,0 +1,589 @@
+//! The variable table: a model states each variable once, here, and everything else — value
+//! references, the typed stores behind fmi2Get/Set, range checks and `modelDescription.xml` —
+//! is derived from that one declaration.
+//!
+//! ```ignore
+//! let r = d.parameter("R_series", 1.0, "Ohm").min(0.0).describe("Line resistance");
+//! let i = d.state("i_L", 0.0, "A").describe("Line current");
+//! let y = d.output("i_absorbed", "A").describe("Absorbed current");
+//! ```
+//! Value references are given in declaration order, one counter for all types (so a value
+//! reference names one variable whatever its type). A state also declares its derivative
+//! `der(<name>)` right after itself.
+
+use crate::units;
+
+/// FMI 2.0 causality (section 2.2.7).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Causality {
+    Parameter,
+    CalculatedParameter,
+    Input,
+    Output,
+    Local,
+}
+
+impl Causality {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Causality::Parameter => "parameter",
+            Causality::CalculatedParameter => "calculatedParameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+            Causality::Local => "local",
+        }
+    }
+}
+
+/// FMI 2.0 variability (section 2.2.7).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variability {
+    Fixed,
+    Tunable,
+    Discrete,
+    Continuous,
+}
+
+impl Variability {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Variability::Fixed => "fixed",
+            Variability::Tunable => "tunable",
+            Variability::Discrete => "discrete",
+            Variability::Continuous => "continuous",
+        }
+    }
+}
+
+/// FMI 2.0 `initial` attribute.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Initial {
+    Exact,
+    Calculated,
+}
+
+impl Initial {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Initial::Exact => "exact",
+            Initial::Calculated => "calculated",
+        }
+    }
+}
+
+/// Where a variable's value lives inside an instance. Knowns (parameters, inputs, state start
+/// values) are read by the model's equations; calculated values (outputs, locals, calculated
+/// parameters) are written by them; derivatives come from `Model::derivatives`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Slot {
+    /// Index into the known reals: parameters, inputs, continuous states.
+    Known(usize),
+    /// Index into the calculated reals: outputs, locals, calculated parameters.
+    Calculated(usize),
+    /// Index of the state whose derivative this is.
+    Derivative(usize),
+    /// Index into the integer parameters.
+    Integer(usize),
+    /// Index into the boolean parameters.
+    Boolean(usize),
+}
+
+/// The FMI base type of a variable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BaseType {
+    Real,
+    Integer,
+    Boolean,
+}
+
+/// Start value of a variable, if it has one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Start {
+    Real(f64),
+    Integer(i32),
+    Boolean(bool),
+}
+
+/// One scalar variable, as declared by a model.
+#[derive(Clone, Debug)]
+pub struct Variable {
+    pub name: String,
+    pub value_reference: u32,
+    pub description: String,
+    pub causality: Causality,
+    pub variability: Variability,
+    pub initial: Option<Initial>,
+    pub start: Option<Start>,
+    pub unit: Option<String>,
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub nominal: Option<f64>,
+    pub slot: Slot,
+    /// For a state derivative, the value reference of its state.
+    pub derivative_of: Option<u32>,
+}
+
+impl Variable {
+    pub fn base_type(&self) -> BaseType {
+        match self.slot {
+            Slot::Known(_) | Slot::Calculated(_) | Slot::Derivative(_) => BaseType::Real,
+            Slot::Integer(_) => BaseType::Integer,
+            Slot::Boolean(_) => BaseType::Boolean,
+        }
+    }
+
+    /// A known whose value the master may set before initialization (a parameter or a state
+    /// start value) or at any time (an input).
+    pub fn is_settable_before_initialization(&self) -> bool {
+        matches!(self.causality, Causality::Parameter | Causality::Input)
+            || self.initial == Some(Initial::Exact)
+    }
+
+    /// Settable while the instance steps (FMI 2.0 CS: inputs and tunable parameters).
+    pub fn is_settable_while_stepping(&self) -> bool {
+        self.causality == Causality::Input
+            || (self.causality == Causality::Parameter && self.variability == Variability::Tunable)
+    }
+
+    /// Checks a candidate value against the variable's declared range.
+    pub fn check_range(&self, value: f64) -> Result<(), String> {
+        if !value.is_finite() {
+            return Err(format!("{} = {value} is not a finite number", self.name));
+        }
+        if let Some(min) = self.min {
+            if value < min {
+                return Err(format!("{} = {value} is below its minimum {min}", self.name));
+            }
+        }
+        if let Some(max) = self.max {
+            if value > max {
+                return Err(format!("{} = {value} is above its maximum {max}", self.name));
+            }
+        }
+        Ok(())
+    }
+}
+
+macro_rules! handle {
+    ($(#[$doc:meta])* $name:ident) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub struct $name(pub(crate) usize);
+    };
+}
+
+handle!(
+    /// A real parameter (causality parameter): read it in the equations as `k[handle]`.
+    Parameter
+);
+handle!(
+    /// A real input: read it in the equations as `k[handle]`.
+    Input
+);
+handle!(
+    /// A real output: write it in `Model::outputs` as `out[handle] = value`.
+    Output
+);
+handle!(
+    /// A real local or calculated parameter: written in `Model::outputs` like an output.
+    Local
+);
+handle!(
+    /// An integer parameter (structural choices: modelling level, number of nodes).
+    IntegerParameter
+);
+handle!(
+    /// A boolean parameter.
+    BooleanParameter
+);
+
+/// A continuous state: read as `k[state]`, its derivative written as `der[state] = value`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct State {
+    pub(crate) state: usize,
+}
+
+/// Everything a model declared: the variables in value-reference order and the store sizes.
+#[derive(Clone, Debug, Default)]
+pub struct VariableTable {
+    pub variables: Vec<Variable>,
+    pub n_known: usize,
+    pub n_calculated: usize,
+    pub n_states: usize,
+    pub n_integers: usize,
+    pub n_booleans: usize,
+    /// Known-real index of each state, in state order.
+    pub state_known_index: Vec<usize>,
+    /// Value reference of each state, in state order.
+    pub state_value_reference: Vec<u32>,
+}
+
+impl VariableTable {
+    /// The variable with this value reference.
+    pub fn get(&self, vr: u32) -> Option<&Variable> {
+        self.variables.get(vr as usize)
+    }
+
+    /// The variable with this name.
+    pub fn by_name(&self, name: &str) -> Option<&Variable> {
+        self.variables.iter().find(|v| v.name == name)
+    }
+
+    /// Nominal value of each state (1 where undeclared), used to scale absolute tolerances.
+    pub fn state_nominals(&self) -> Vec<f64> {
+        self.state_value_reference
+            .iter()
+            .map(|&vr| self.variables[vr as usize].nominal.unwrap_or(1.0))
+            .collect()
+    }
+
+    /// Start values of the known reals, calculated reals, integers and booleans.
+    pub fn start_values(&self) -> crate::values::Values {
+        let mut v = crate::values::Values {
+            known: vec![0.0; self.n_known],
+            calculated: vec![0.0; self.n_calculated],
+            derivatives: vec![0.0; self.n_states],
+            integers: vec![0; self.n_integers],
+            booleans: vec![false; self.n_booleans],
+        };
+        for var in &self.variables {
+            match (var.slot, var.start) {
+                (Slot::Known(i), Some(Start::Real(x))) => v.known[i] = x,
+                (Slot::Integer(i), Some(Start::Integer(x))) => v.integers[i] = x,
+                (Slot::Boolean(i), Some(Start::Boolean(x))) => v.booleans[i] = x,
+                _ => {}
+            }
+        }
+        v
+    }
+}
+
+/// The builder a model's `declare` receives. Each call adds one variable (two for a state) and
+/// hands back a builder whose `describe` finishes the declaration and returns the typed handle:
+/// a variable without a description does not compile into a handle.
+#[derive(Default)]
+pub struct Declarations {
+    table: VariableTable,
+}
+
+impl Declarations {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn into_table(self) -> VariableTable {
+        self.table
+    }
+
+    fn push(&mut self, mut var: Variable) -> usize {
+        assert!(
+            self.table.by_name(&var.name).is_none(),
+            "variable '{}' is declared twice",
+            var.name
+        );
+        if let Some(unit) = &var.unit {
+            assert!(
+                units::lookup(unit).is_some(),
+                "variable '{}': unknown unit '{unit}' (add it to fmu_runtime::units)",
+                var.name
+            );
+        }
+        var.value_reference = self.table.variables.len() as u32;
+        self.table.variables.push(var);
+        self.table.variables.len() - 1
+    }
+
+    fn real(
+        &mut self,
+        name: &str,
+        unit: &str,
+        causality: Causality,
+        variability: Variability,
+        initial: Option<Initial>,
+        start: Option<f64>,
+        slot: Slot,
+    ) -> usize {
+        self.push(Variable {
+            name: name.to_string(),
+            value_reference: 0,
+            description: String::new(),
+            causality,
+            variability,
+            initial,
+            start: start.map(Start::Real),
+            unit: Some(unit.to_string()),
+            min: None,
+            max: None,
+            nominal: None,
+            slot,
+            derivative_of: None,
+        })
+    }
+
+    fn next_known(&mut self) -> usize {
+        self.table.n_known += 1;
+        self.table.n_known - 1
+    }
+
+    fn next_calculated(&mut self) -> usize {
+        self.table.n_calculated += 1;
+        self.table.n_calculated - 1
+    }
+
+    /// A real parameter with its default (the chapter's value) and SI unit; `fixed` unless
+    /// `.tunable()`.
+    pub fn parameter(&mut self, name: &str, start: f64, unit: &str) -> RealBuilder<'_, Parameter> {
+        let k = self.next_known();
+        let pos = self.real(name, unit, Causality::Parameter, Variability::Fixed, None, Some(start), Slot::Known(k));
+        RealBuilder { decl: self, pos, handle: Parameter(k) }
+    }
+
+    /// A real input with the value it holds until the master sets it.
+    pub fn input(&mut self, name: &str, start: f64, unit: &str) -> RealBuilder<'_, Input> {
+        let k = self.next_known();
+        let pos = self.real(name, unit, Causality::Input, Variability::Continuous, None, Some(start), Slot::Known(k));
+        RealBuilder { decl: self, pos, handle: Input(k) }
+    }
+
+    /// A real output, computed by `Model::outputs`.
+    pub fn output(&mut self, name: &str, unit: &str) -> RealBuilder<'_, Output> {
+        let c = self.next_calculated();
+        let pos = self.real(name, unit, Causality::Output, Variability::Continuous, None, None, Slot::Calculated(c));
+        RealBuilder { decl: self, pos, handle: Output(c) }
+    }
+
+    /// A real local variable computed by `Model::outputs` (an internal signal worth plotting).
+    pub fn local(&mut self, name: &str, unit: &str) -> RealBuilder<'_, Local> {
+        let c = self.next_calculated();
+        let pos = self.real(name, unit, Causality::Local, Variability::Continuous, None, None, Slot::Calculated(c));
+        RealBuilder { decl: self, pos, handle: Local(c) }
+    }
+
+    /// A parameter computed from other parameters (e.g. an inertia referred to another axis),
+    /// written by `Model::outputs`.
+    pub fn calculated_parameter(&mut self, name: &str, unit: &str) -> RealBuilder<'_, Local> {
+        let c = self.next_calculated();
+        let pos = self.real(
+            name,
+            unit,
+            Causality::CalculatedParameter,
+            Variability::Fixed,
+            Some(Initial::Calculated),
+            None,
+            Slot::Calculated(c),
+        );
+        RealBuilder { decl: self, pos, handle: Local(c) }
+    }
+
+    /// A continuous state with its initial value (settable before initialization). Also
+    /// declares `der(<name>)`, in the unit of the state per second.
+    pub fn state(&mut self, name: &str, start: f64, unit: &str) -> RealBuilder<'_, State> {
+        let k = self.next_known();
+        let s = self.table.n_states;
+        self.table.n_states += 1;
+        let pos = self.real(
+            name,
+            unit,
+            Causality::Local,
+            Variability::Continuous,
+            Some(Initial::Exact),
+            Some(start),
+            Slot::Known(k),
+        );
+        let vr = self.table.variables[pos].value_reference;
+        self.table.state_known_index.push(k);
+        self.table.state_value_reference.push(vr);
+        let der_unit = units::derivative_unit(unit);
+        let dpos = self.real(
+            &format!("der({name})"),
+            &der_unit,
+            Causality::Local,
+            Variability::Continuous,
+            Some(Initial::Calculated),
+            None,
+            Slot::Derivative(s),
+        );
+        self.table.variables[dpos].derivative_of = Some(vr);
+        self.table.variables[dpos].description = format!("Time derivative of {name}");
+        RealBuilder { decl: self, pos, handle: State { state: s } }
+    }
+
+    /// An integer parameter (`fixed`): structural choices such as a modelling level.
+    pub fn integer_parameter(&mut self, name: &str, start: i32) -> IntegerBuilder<'_> {
+        let i = self.table.n_integers;
+        self.table.n_integers += 1;
+        let pos = self.push(Variable {
+            name: name.to_string(),
+            value_reference: 0,
+            description: String::new(),
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            initial: None,
+            start: Some(Start::Integer(start)),
+            unit: None,
+            min: None,
+            max: None,
+            nominal: None,
+            slot: Slot::Integer(i),
+            derivative_of: None,
+        });
+        IntegerBuilder { decl: self, pos, handle: IntegerParameter(i) }
+    }
+
+    /// A boolean parameter (`fixed`).
+    pub fn boolean_parameter(&mut self, name: &str, start: bool) -> BooleanBuilder<'_> {
+        let b = self.table.n_booleans;
+        self.table.n_booleans += 1;
+        let pos = self.push(Variable {
+            name: name.to_string(),
+            value_reference: 0,
+            description: String::new(),
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            initial: None,
+            start: Some(Start::Boolean(start)),
+            unit: None,
+            min: None,
+            max: None,
+            nominal: None,
+            slot: Slot::Boolean(b),
+            derivative_of: None,
+        });
+        BooleanBuilder { decl: self, pos, handle: BooleanParameter(b) }
+    }
+}
+
+/// Finishes a real variable's declaration: bounds, nominal, tunability, then `describe`.
+pub struct RealBuilder<'a, H> {
+    decl: &'a mut Declarations,
+    pos: usize,
+    handle: H,
+}
+
+impl<H> RealBuilder<'_, H> {
+    fn var(&mut self) -> &mut Variable {
+        &mut self.decl.table.variables[self.pos]
+    }
+
+    /// Smallest physically meaningful value (inclusive); values below are rejected.
+    pub fn min(mut self, min: f64) -> Self {
+        self.var().min = Some(min);
+        self
+    }
+
+    /// Largest physically meaningful value (inclusive); values above are rejected.
+    pub fn max(mut self, max: f64) -> Self {
+        self.var().max = Some(max);
+        self
+    }
+
+    /// Typical magnitude (scales a state's absolute tolerance).
+    pub fn nominal(mut self, nominal: f64) -> Self {
+        self.var().nominal = Some(nominal);
+        self
+    }
+
+    /// Finishes the declaration with its description (cite the chapter's equation or figure)
+    /// and returns the handle the equations use.
+    pub fn describe(mut self, description: &str) -> H {
+        self.var().description = description.to_string();
+        let v = self.var().clone();
+        if let Some(Start::Real(s)) = v.start {
+            if let Err(e) = v.check_range(s) {
+                panic!("the default of {}: {e}", v.name);
+            }
+        }
+        self.handle
+    }
+}
+
+impl RealBuilder<'_, Parameter> {
+    /// The master may change this parameter between communication steps.
+    pub fn tunable(mut self) -> Self {
+        self.var().variability = Variability::Tunable;
+        self
+    }
+}
+
+/// Finishes an integer parameter's declaration.
+pub struct IntegerBuilder<'a> {
+    decl: &'a mut Declarations,
+    pos: usize,
+    handle: IntegerParameter,
+}
+
+impl IntegerBuilder<'_> {
+    /// The allowed range, inclusive.
+    pub fn range(self, min: i32, max: i32) -> Self {
+        let v = &mut self.decl.table.variables[self.pos];
+        v.min = Some(min as f64);
+        v.max = Some(max as f64);
+        self
+    }
+
+    pub fn describe(self, description: &str) -> IntegerParameter {
+        self.decl.table.variables[self.pos].description = description.to_string();
+        self.handle
+    }
+}
+
+/// Finishes a boolean parameter's declaration.
+pub struct BooleanBuilder<'a> {
+    decl: &'a mut Declarations,
+    pos: usize,
+    handle: BooleanParameter,
+}
+
+impl BooleanBuilder<'_> {
+    pub fn describe(self, description: &str) -> BooleanParameter {
+        self.decl.table.variables[self.pos].description = description.to_string();
+        self.handle
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn value_references_follow_declaration_order_and_states_bring_derivatives() {
+        let mut d = Declarations::new();
+        let p = d.parameter("R", 1.0, "Ohm").min(0.0).describe("resistance");
+        let x = d.state("i", 0.0, "A").describe("current");
+        let y = d.output("y", "A").describe("output");
+        let n = d.integer_parameter("level", 1).range(1, 4).describe("level");
+        let t = d.into_table();
+        assert_eq!((p, x, y, n), (Parameter(0), State { state: 0 }, Output(0), IntegerParameter(0)));
+        let names: Vec<_> = t.variables.iter().map(|v| (v.value_reference, v.name.as_str())).collect();
+        assert_eq!(names, vec![(0, "R"), (1, "i"), (2, "der(i)"), (3, "y"), (4, "level")]);
+        assert_eq!(t.variables[2].derivative_of, Some(1));
+        assert_eq!(t.variables[2].unit.as_deref(), Some("A/s"));
+        assert_eq!(t.state_known_index, vec![1]);
+        assert_eq!(t.n_known, 2);
+    }
+
+    #[test]
+    #[should_panic(expected = "declared twice")]
+    fn duplicate_names_are_refused() {
+        let mut d = Declarations::new();
+        d.parameter("R", 1.0, "Ohm").describe("a");
+        d.parameter("R", 1.0, "Ohm").describe("b");
+    }
+
+    #[test]
+    #[should_panic(expected = "unknown unit")]
+    fn unknown_units_are_refused() {
+        let mut d = Declarations::new();
+        d.parameter("R", 1.0, "furlong").describe("a");
+    }
+
+    #[test]
+    fn range_check_names_the_variable() {
+        let mut d = Declarations::new();
+        d.parameter("J", 1.0, "kg.m2").min(0.0).describe("inertia");
+        let t = d.into_table();
+        let err = t.variables[0].check_range(-1.0).unwrap_err();
+        assert!(err.contains("J = -1") && err.contains("minimum"), "{err}");
+        assert!(t.variables[0].check_range(f64::NAN).is_err());
+    }
+}

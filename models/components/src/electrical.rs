@@ -1,0 +1,106 @@
+//! Electrical storage and dissipation elements (chapter section 3.2, Table 3.2): a resistor
+//! dissipates, an inductor stores magnetic energy (current is its state), a capacitor stores
+//! electric energy (voltage is its state).
+
+/// A linear resistor: u = R i (dissipation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Resistor {
+    pub resistance_ohm: f64,
+}
+
+impl Resistor {
+    /// Voltage drop across the resistor, V.
+    pub fn voltage_v(&self, current_a: f64) -> f64 {
+        self.resistance_ohm * current_a
+    }
+
+    /// Current through the resistor under a voltage, A.
+    pub fn current_a(&self, voltage_v: f64) -> f64 {
+        voltage_v / self.resistance_ohm
+    }
+
+    /// Power dissipated, W (never negative).
+    pub fn power_w(&self, current_a: f64) -> f64 {
+        self.resistance_ohm * current_a * current_a
+    }
+}
+
+/// A linear inductor: u = L di/dt (magnetic energy storage).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inductor {
+    pub inductance_h: f64,
+}
+
+impl Inductor {
+    /// di/dt under a voltage across the inductor, A/s.
+    pub fn current_rate_a_per_s(&self, voltage_v: f64) -> f64 {
+        voltage_v / self.inductance_h
+    }
+
+    /// Stored energy L i^2 / 2, J.
+    pub fn energy_j(&self, current_a: f64) -> f64 {
+        0.5 * self.inductance_h * current_a * current_a
+    }
+
+    /// Impedance magnitude at an angular frequency, Ohm.
+    pub fn reactance_ohm(&self, angular_frequency_rad_per_s: f64) -> f64 {
+        self.inductance_h * angular_frequency_rad_per_s
+    }
+}
+
+/// A linear capacitor: i = C du/dt (electric energy storage).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Capacitor {
+    pub capacitance_f: f64,
+}
+
+impl Capacitor {
+    /// du/dt under a current into the capacitor, V/s.
+    pub fn voltage_rate_v_per_s(&self, current_a: f64) -> f64 {
+        current_a / self.capacitance_f
+    }
+
+    /// Stored energy C u^2 / 2, J.
+    pub fn energy_j(&self, voltage_v: f64) -> f64 {
+        0.5 * self.capacitance_f * voltage_v * voltage_v
+    }
+
+    /// Impedance magnitude at an angular frequency, Ohm.
+    pub fn reactance_ohm(&self, angular_frequency_rad_per_s: f64) -> f64 {
+        1.0 / (self.capacitance_f * angular_frequency_rad_per_s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resistor_is_ohms_law_and_dissipates() {
+        let r = Resistor { resistance_ohm: 4.0 };
+        assert_eq!(r.voltage_v(2.0), 8.0);
+        assert_eq!(r.current_a(8.0), 2.0);
+        assert_eq!(r.power_w(-2.0), 16.0);
+    }
+
+    #[test]
+    fn storage_power_is_the_rate_of_its_energy() {
+        // d/dt (L i^2/2) = L i di/dt = i u: the power u i flows into the inductor.
+        let l = Inductor { inductance_h: 0.01 };
+        let (i, u) = (3.0, 5.0);
+        let di = l.current_rate_a_per_s(u);
+        assert!((l.inductance_h * i * di - u * i).abs() < 1e-12);
+        let c = Capacitor { capacitance_f: 1e-4 };
+        let du = c.voltage_rate_v_per_s(i);
+        assert!((c.capacitance_f * u * du - u * i).abs() < 1e-12);
+        assert_eq!(l.energy_j(2.0), 0.02);
+        assert!((c.energy_j(10.0) - 5e-3).abs() < 1e-15);
+    }
+
+    #[test]
+    fn reactances_cross_at_resonance() {
+        let (l, c) = (Inductor { inductance_h: 0.01 }, Capacitor { capacitance_f: 1e-4 });
+        let w0 = 1.0 / (l.inductance_h * c.capacitance_f).sqrt();
+        assert!((l.reactance_ohm(w0) - c.reactance_ohm(w0)).abs() < 1e-9);
+    }
+}
