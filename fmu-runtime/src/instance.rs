@@ -452,3 +452,103 @@ impl<M: Model> Instance<M> {
         self.logger.log(status, &failure.message);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_model::Decay;
+
+    // Decay's value references: a=0, u=1, x=2, der(x)=3, y=4, w=5.
+    fn initialized() -> Instance<Decay> {
+        let mut i = Instance::<Decay>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        i.setup_experiment(Some(1e-8), 0.0, None).unwrap();
+        i.enter_initialization_mode().unwrap();
+        i.exit_initialization_mode().unwrap();
+        i
+    }
+
+    fn get(i: &mut Instance<Decay>, vr: u32) -> f64 {
+        let mut v = [0.0];
+        i.get(&[vr], &mut v).unwrap();
+        v[0]
+    }
+
+    #[test]
+    fn steps_follow_the_exponential() {
+        // x' = -a x with x(0) = 1, a = 2: x(t) = exp(-2 t).
+        let mut i = initialized();
+        for n in 0..100 {
+            i.do_step(n as f64 * 0.01, 0.01).unwrap();
+        }
+        let x = get(&mut i, 2);
+        assert!((x - (-2.0f64).exp()).abs() < 1e-7, "{x}");
+        assert_eq!(get(&mut i, 4), 2.0 * x);
+        assert!((get(&mut i, 3) + 2.0 * x).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_set_is_all_or_nothing() {
+        let mut i = initialized();
+        let err = i.set(&[1, 0], &[3.0, 5.0]).unwrap_err();
+        assert!(err.message.contains("'a'") && err.message.contains("fixed parameter"), "{}", err.message);
+        assert_eq!(get(&mut i, 1), 0.0, "u must not be written when a later value is refused");
+        i.set(&[1], &[3.0]).unwrap();
+        assert_eq!(get(&mut i, 5), 6.0, "w = a u is recomputed after the input changes");
+    }
+
+    #[test]
+    fn out_of_range_parameters_are_refused_and_named() {
+        let mut i = Instance::<Decay>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let err = i.set(&[0], &[-1.0]).unwrap_err();
+        assert!(err.message.contains("a = -1") && err.message.contains("minimum"), "{}", err.message);
+        assert!(i.set(&[1], &[f64::NAN]).is_err());
+        assert!(i.set(&[3], &[1.0]).unwrap_err().message.contains("derivative"));
+        assert!(i.set(&[99], &[1.0]).unwrap_err().message.contains("unknown value reference 99"));
+    }
+
+    #[test]
+    fn communication_points_must_match_the_instance_time() {
+        let mut i = initialized();
+        i.do_step(0.0, 0.1).unwrap();
+        let err = i.do_step(0.2, 0.1).unwrap_err();
+        assert!(err.message.contains("does not match"), "{}", err.message);
+        // Rounding of a master's own time keeping is accepted: 0.1 vs 0.1 + 1 ulp.
+        i.do_step(0.1 + f64::EPSILON * 0.1, 0.1).unwrap();
+        assert!(i.do_step(0.2, 0.0).is_err() && i.do_step(0.2, -0.1).is_err());
+    }
+
+    #[test]
+    fn a_restored_state_continues_bit_identically() {
+        let mut i = initialized();
+        i.do_step(0.0, 0.25).unwrap();
+        let saved = i.get_fmu_state(None).unwrap();
+        i.do_step(0.25, 0.25).unwrap();
+        let first = get(&mut i, 2);
+        i.set_fmu_state(saved).unwrap();
+        assert_eq!(i.time(), 0.25);
+        i.do_step(0.25, 0.25).unwrap();
+        assert_eq!(get(&mut i, 2).to_bits(), first.to_bits());
+        i.free_fmu_state(saved).unwrap();
+        assert!(i.free_fmu_state(saved).is_err());
+    }
+
+    #[test]
+    fn reset_returns_to_the_start_values() {
+        let mut i = initialized();
+        i.do_step(0.0, 0.5).unwrap();
+        i.reset().unwrap();
+        assert_eq!(i.mode, Mode::Instantiated);
+        i.enter_initialization_mode().unwrap();
+        assert_eq!(get(&mut i, 2), 1.0);
+    }
+}
+
+#[cfg(test)]
+mod send {
+    /// A master may call an instance from any thread (never concurrently): it must be Send.
+    #[test]
+    fn instances_can_move_between_threads() {
+        fn assert_send<T: Send>() {}
+        assert_send::<super::Instance<crate::test_model::Decay>>();
+    }
+}

@@ -36,6 +36,9 @@ pub mod units;
 pub mod values;
 pub mod variables;
 
+#[cfg(test)]
+mod test_model;
+
 pub use model::{DefaultExperiment, Model, ModelInfo, Solver};
 
 /// Everything a model crate needs, in one import.

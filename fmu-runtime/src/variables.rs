@@ -408,25 +408,30 @@ impl Declarations {
         RealBuilder { decl: self, pos, handle: State { state: s } }
     }
 
-    /// An integer parameter (`fixed`): structural choices such as a modelling level.
-    pub fn integer_parameter(&mut self, name: &str, start: i32) -> IntegerBuilder<'_> {
-        let i = self.table.n_integers;
-        self.table.n_integers += 1;
-        let pos = self.push(Variable {
+    /// A non-real parameter (`fixed`, no unit).
+    fn discrete_parameter(&mut self, name: &str, start: Start, slot: Slot) -> usize {
+        self.push(Variable {
             name: name.to_string(),
             value_reference: 0,
             description: String::new(),
             causality: Causality::Parameter,
             variability: Variability::Fixed,
             initial: None,
-            start: Some(Start::Integer(start)),
+            start: Some(start),
             unit: None,
             min: None,
             max: None,
             nominal: None,
-            slot: Slot::Integer(i),
+            slot,
             derivative_of: None,
-        });
+        })
+    }
+
+    /// An integer parameter (`fixed`): structural choices such as a modelling level.
+    pub fn integer_parameter(&mut self, name: &str, start: i32) -> IntegerBuilder<'_> {
+        let i = self.table.n_integers;
+        self.table.n_integers += 1;
+        let pos = self.discrete_parameter(name, Start::Integer(start), Slot::Integer(i));
         IntegerBuilder { decl: self, pos, handle: IntegerParameter(i) }
     }
 
@@ -434,21 +439,7 @@ impl Declarations {
     pub fn boolean_parameter(&mut self, name: &str, start: bool) -> BooleanBuilder<'_> {
         let b = self.table.n_booleans;
         self.table.n_booleans += 1;
-        let pos = self.push(Variable {
-            name: name.to_string(),
-            value_reference: 0,
-            description: String::new(),
-            causality: Causality::Parameter,
-            variability: Variability::Fixed,
-            initial: None,
-            start: Some(Start::Boolean(start)),
-            unit: None,
-            min: None,
-            max: None,
-            nominal: None,
-            slot: Slot::Boolean(b),
-            derivative_of: None,
-        });
+        let pos = self.discrete_parameter(name, Start::Boolean(start), Slot::Boolean(b));
         BooleanBuilder { decl: self, pos, handle: BooleanParameter(b) }
     }
 }
