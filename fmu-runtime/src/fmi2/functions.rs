@@ -460,3 +460,74 @@ pub unsafe fn model_exchange_only<M: Model>(c: fmi2Component, name: &str) -> fmi
     comp.instance.logger.log(fmi2Error, &format!("{name}: this FMU offers Co-Simulation only (no ModelExchange element)"));
     fmi2Error
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{DefaultExperiment, ModelInfo, Solver};
+    use crate::values::{Derivatives, Knowns, Outputs};
+    use crate::variables::{Declarations, Input, State};
+    use std::sync::Mutex;
+
+    /// A model whose equations panic when its input is negative.
+    struct Panicky {
+        u: Input,
+        x: State,
+    }
+
+    impl Model for Panicky {
+        fn info() -> ModelInfo {
+            ModelInfo {
+                name: "Panicky",
+                description: "panics on a negative input",
+                default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 1.0, step_size: 0.1 },
+                solver: Solver::ExplicitRungeKutta,
+                documentation: "",
+            }
+        }
+        fn declare(d: &mut Declarations) -> Self {
+            Panicky { u: d.input("u", 1.0, "1").describe("input"), x: d.state("x", 0.0, "1").describe("state") }
+        }
+        fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+            assert!(k[self.u] >= 0.0, "negative input");
+            der[self.x] = k[self.u];
+        }
+        fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
+    }
+
+    static LOG: Mutex<Vec<(i32, String)>> = Mutex::new(Vec::new());
+
+    unsafe extern "C" fn record(_: fmi2ComponentEnvironment, _: fmi2String, status: fmi2Status, _: fmi2String, msg: fmi2String) {
+        LOG.lock().unwrap().push((status, CStr::from_ptr(msg).to_string_lossy().into_owned()));
+    }
+
+    #[test]
+    fn a_panic_in_the_model_becomes_fmi2_fatal_and_a_message() {
+        let exported: &'static Exported = Box::leak(Box::new(Exported::of::<Panicky>()));
+        // SAFETY: on x86_64 SysV a non-variadic callee reads the same registers as the variadic
+        // type declares; the runtime passes no variadic arguments.
+        let logger: fmi2CallbackLogger = unsafe { std::mem::transmute(record as unsafe extern "C" fn(_, _, _, _, _)) };
+        let callbacks = fmi2CallbackFunctions {
+            logger: Some(logger),
+            allocateMemory: None,
+            freeMemory: None,
+            stepFinished: None,
+            componentEnvironment: std::ptr::null_mut(),
+        };
+        let guid = std::ffi::CString::new(exported.guid.clone()).unwrap();
+        unsafe {
+            let c = instantiate::<Panicky>(exported, c"p".as_ptr(), fmi2CoSimulation, guid.as_ptr(), std::ptr::null(), &callbacks, 0, 0);
+            assert!(!c.is_null());
+            assert_eq!(setup_experiment::<Panicky>(c, 0, 0.0, 0.0, 0, 0.0), fmi2OK);
+            assert_eq!(enter_initialization_mode::<Panicky>(c), fmi2OK);
+            assert_eq!(exit_initialization_mode::<Panicky>(c), fmi2OK);
+            assert_eq!(do_step::<Panicky>(c, 0.0, 0.1, 1), fmi2OK);
+            let (vr, u) = ([0u32], [-1.0]);
+            assert_eq!(set_real::<Panicky>(c, vr.as_ptr(), 1, u.as_ptr()), fmi2OK);
+            assert_eq!(do_step::<Panicky>(c, 0.1, 0.1, 1), fmi2Fatal);
+            assert!(LOG.lock().unwrap().iter().any(|(s, m)| *s == fmi2Fatal && m.contains("negative input")));
+            assert_eq!(do_step::<Panicky>(c, 0.1, 0.1, 1), fmi2Fatal, "a fatal instance stays fatal");
+            free_instance::<Panicky>(c);
+        }
+    }
+}
