@@ -47,11 +47,7 @@ pub struct Structure {
 
 /// Formats a real for XML: shortest round-trip text, with an exponent for very small or large.
 pub fn real_text(v: f64) -> String {
-    if v == 0.0 || (1e-4..1e15).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
+    crate::variables::number(v)
 }
 
 fn index_of(var: &Variable) -> usize {

@@ -189,9 +189,10 @@ impl<M: Model> Instance<M> {
         })?;
         if var.base_type() != expected {
             return Err(Failure::error(format!(
-                "value reference {vr} is the {:?} variable '{}', not a {expected:?}",
+                "value reference {vr} is the {:?} variable '{}', not {}",
                 var.base_type(),
-                var.name
+                var.name,
+                expected.with_article()
             )));
         }
         Ok(var)
@@ -320,6 +321,15 @@ impl<M: Model> Instance<M> {
             return Err(Failure::error(format!("communication point {t} is not finite")));
         }
         let tolerance = 64.0 * f64::EPSILON * self.time.abs().max(t.abs()) + 1e-6 * h;
+        if let Some(stop) = self.experiment.stop_time {
+            // FMI 2.0, fmi2SetupExperiment: computing past a defined stop time is an error.
+            if t + h > stop + tolerance {
+                return Err(Failure::error(format!(
+                    "the step to {} s would pass the stop time {stop} s set by fmi2SetupExperiment",
+                    t + h
+                )));
+            }
+        }
         if (t - self.time).abs() > tolerance {
             return Err(Failure::error(format!(
                 "communication point {t} s does not match this instance's time {} s (use fmi2SetFMUstate to go back)",
@@ -515,6 +525,20 @@ mod tests {
         // Rounding of a master's own time keeping is accepted: 0.1 vs 0.1 + 1 ulp.
         i.do_step(0.1 + f64::EPSILON * 0.1, 0.1).unwrap();
         assert!(i.do_step(0.2, 0.0).is_err() && i.do_step(0.2, -0.1).is_err());
+    }
+
+    #[test]
+    fn a_defined_stop_time_cannot_be_passed() {
+        let mut i = Instance::<Decay>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        i.setup_experiment(None, 0.0, Some(0.3)).unwrap();
+        i.enter_initialization_mode().unwrap();
+        i.exit_initialization_mode().unwrap();
+        for n in 0..3 {
+            i.do_step(n as f64 * 0.1, 0.1).unwrap();
+        }
+        let err = i.do_step(0.30000000000000004, 0.1).unwrap_err();
+        assert!(err.message.contains("stop time"), "{}", err.message);
+        assert_eq!(get(&mut i, 0), 2.0, "the instance keeps working");
     }
 
     #[test]

@@ -96,6 +96,17 @@ pub enum BaseType {
     Boolean,
 }
 
+impl BaseType {
+    /// "a Real", "an Integer", "a Boolean".
+    pub fn with_article(self) -> &'static str {
+        match self {
+            BaseType::Real => "a Real",
+            BaseType::Integer => "an Integer",
+            BaseType::Boolean => "a Boolean",
+        }
+    }
+}
+
 /// Start value of a variable, if it has one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Start {
@@ -118,6 +129,9 @@ pub struct Variable {
     pub min: Option<f64>,
     pub max: Option<f64>,
     pub nominal: Option<f64>,
+    /// The value must be strictly above `min` (a physically positive quantity such as an
+    /// inductance); FMI's `min` is inclusive, so the XML says `min` and the runtime refuses `min` itself.
+    pub min_exclusive: bool,
     pub slot: Slot,
     /// For a state derivative, the value reference of its state.
     pub derivative_of: Option<u32>,
@@ -147,20 +161,33 @@ impl Variable {
 
     /// Checks a candidate value against the variable's declared range.
     pub fn check_range(&self, value: f64) -> Result<(), String> {
+        let (name, v) = (&self.name, number(value));
         if !value.is_finite() {
-            return Err(format!("{} = {value} is not a finite number", self.name));
+            return Err(format!("{name} = {v} is not a finite number"));
         }
         if let Some(min) = self.min {
+            if self.min_exclusive && value <= min {
+                return Err(format!("{name} = {v} must be > {}", number(min)));
+            }
             if value < min {
-                return Err(format!("{} = {value} is below its minimum {min}", self.name));
+                return Err(format!("{name} = {v} is below its minimum {}", number(min)));
             }
         }
         if let Some(max) = self.max {
             if value > max {
-                return Err(format!("{} = {value} is above its maximum {max}", self.name));
+                return Err(format!("{name} = {v} is above its maximum {}", number(max)));
             }
         }
         Ok(())
+    }
+}
+
+/// A number as people read it: shortest round-trip text, an exponent for tiny or huge values.
+pub fn number(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
 
@@ -315,6 +342,7 @@ impl Declarations {
             min: None,
             max: None,
             nominal: None,
+            min_exclusive: false,
             slot,
             derivative_of: None,
         })
@@ -422,6 +450,7 @@ impl Declarations {
             min: None,
             max: None,
             nominal: None,
+            min_exclusive: false,
             slot,
             derivative_of: None,
         })
@@ -459,6 +488,14 @@ impl<H> RealBuilder<'_, H> {
     /// Smallest physically meaningful value (inclusive); values below are rejected.
     pub fn min(mut self, min: f64) -> Self {
         self.var().min = Some(min);
+        self
+    }
+
+    /// Strictly positive (an inertia, an inductance, a capacitance): 0 and below are rejected.
+    pub fn positive(mut self) -> Self {
+        let v = self.var();
+        v.min = Some(0.0);
+        v.min_exclusive = true;
         self
     }
 
@@ -576,5 +613,16 @@ mod tests {
         let err = t.variables[0].check_range(-1.0).unwrap_err();
         assert!(err.contains("J = -1") && err.contains("minimum"), "{err}");
         assert!(t.variables[0].check_range(f64::NAN).is_err());
+        assert!(t.variables[0].check_range(0.0).is_ok());
+    }
+
+    #[test]
+    fn positive_quantities_refuse_zero() {
+        let mut d = Declarations::new();
+        d.parameter("L", 0.01, "H").positive().describe("inductance");
+        let t = d.into_table();
+        assert_eq!(t.variables[0].min, Some(0.0));
+        assert!(t.variables[0].check_range(0.0).unwrap_err().contains("L = 0 must be > 0"));
+        assert!(t.variables[0].check_range(1e-300).is_ok());
     }
 }

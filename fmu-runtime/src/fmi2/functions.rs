@@ -418,12 +418,13 @@ unsafe fn status_of<M: Model, T>(
     })
 }
 
+/// FMI 2.0, section 2.1.3: a co-simulation slave that cannot provide a status returns fmi2Discard.
 fn no_status(kind: fmi2StatusKind, ty: &str) -> Failure {
     let what = match kind {
         fmi2DoStepStatus | fmi2PendingStatus => "there is never an asynchronous step in progress (fmi2DoStep never returns fmi2Pending)",
         _ => "this status kind has no value of this type",
     };
-    Failure::error(format!("status kind {kind} as {ty}: {what}"))
+    Failure { status: fmi2Discard, message: format!("status kind {kind} as {ty} is not available: {what}") }
 }
 
 pub unsafe fn get_status<M: Model>(c: fmi2Component, kind: fmi2StatusKind, value: *mut fmi2Status) -> fmi2Status {

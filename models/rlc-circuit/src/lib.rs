@@ -108,9 +108,9 @@ impl Model for RlcCircuit {
             amplitude: d.parameter("U_amplitude", 10.0, "V").min(0.0).describe("Amplitude of the sinusoidal source voltage (Figure 3.3)"),
             frequency: d.parameter("frequency", 50.0, "Hz").min(0.0).describe("Frequency of the source voltage (Figure 3.3 compares several)"),
             r_series: d.parameter("R_series", 1.0, "Ohm").min(0.0).describe("Line resistance (chosen value)"),
-            l_series: d.parameter("L_series", 0.01, "H").min(0.0).describe("Line inductance, > 0 (chosen value)"),
-            c_load: d.parameter("C_load", 1e-4, "F").min(0.0).describe("Load capacitance, > 0 (chosen value)"),
-            r_load: d.parameter("R_load", 10.0, "Ohm").min(0.0).describe("Load resistance in parallel with C_load, > 0 (chosen value)"),
+            l_series: d.parameter("L_series", 0.01, "H").positive().describe("Line inductance (chosen value)"),
+            c_load: d.parameter("C_load", 1e-4, "F").positive().describe("Load capacitance (chosen value)"),
+            r_load: d.parameter("R_load", 10.0, "Ohm").positive().describe("Load resistance in parallel with C_load (chosen value)"),
             u_in: d.input("u_in", 0.0, "V").describe("Voltage added to the sine: lets a master impose any source voltage"),
             i_l: d.state("i_L", 0.0, "A").nominal(1.0).describe("Line current of the full circuit (inductor current)"),
             u_c: d.state("u_C", 0.0, "V").nominal(10.0).describe("Load capacitor voltage of the full circuit"),
@@ -121,15 +121,6 @@ impl Model for RlcCircuit {
             i_low_frequency: d.output("i_low_frequency", "A").describe("Current of the quasi-static model u/(R_series + R_load)"),
             i_high_frequency: d.output("i_high_frequency", "A").describe("Current of the high-frequency model (R-L circuit)"),
         }
-    }
-
-    fn check(&self, k: &Knowns) -> Result<(), String> {
-        for (p, name) in [(self.l_series, "L_series"), (self.c_load, "C_load"), (self.r_load, "R_load")] {
-            if k[p] <= 0.0 {
-                return Err(format!("{name} = {} must be > 0", k[p]));
-            }
-        }
-        Ok(())
     }
 
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {

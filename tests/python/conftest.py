@@ -1,0 +1,60 @@
+"""Shared pytest setup for the Python FMI tests.
+
+The FMUs under test are the ones built into dist/ by `cargo run --release -p build-fmus`
+(or the directory named by the environment variable FMU_DIST_DIR).
+
+* `fmu_path` is parametrized over every dist/*.fmu plus every FMU listed in EXPECTED_FMUS, so a new
+  model is covered by the generic tests as soon as build-fmus puts it into dist/, and a missing
+  expected FMU makes the tests fail (not skip) with the command to build it.
+* `rlc_fmu` is the path of dist/RlcCircuit.fmu (fails the same way if it is missing).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+DIST_DIR = Path(os.environ["FMU_DIST_DIR"]).resolve() if os.environ.get("FMU_DIST_DIR") else REPO_ROOT / "dist"
+
+# FMUs that build-fmus must produce; any other dist/*.fmu is tested by the generic tests too.
+EXPECTED_FMUS = ("RlcCircuit",)
+
+BUILD_HINT = "run `cargo run --release -p build-fmus` (from the repository root) to build the FMUs into dist/"
+
+
+def require_fmu(path: Path) -> Path:
+    """Fail the calling test clearly if an FMU is not there."""
+    if not path.is_file():
+        where = "FMU_DIST_DIR" if os.environ.get("FMU_DIST_DIR") else "<repo>/dist"
+        pytest.fail(f"{path} is missing ({where} = {DIST_DIR}): {BUILD_HINT}", pytrace=False)
+    return path
+
+
+def all_fmu_paths() -> list[Path]:
+    """Every FMU in dist/ plus the expected ones (which may be missing: the tests then fail)."""
+    found = set(DIST_DIR.glob("*.fmu")) if DIST_DIR.is_dir() else set()
+    found |= {DIST_DIR / f"{name}.fmu" for name in EXPECTED_FMUS}
+    return sorted(found)
+
+
+def pytest_generate_tests(metafunc):
+    if "fmu_path" in metafunc.fixturenames:
+        paths = all_fmu_paths()
+        metafunc.parametrize("fmu_path", paths, ids=[p.stem for p in paths], indirect=True)
+
+
+@pytest.fixture
+def fmu_path(request) -> Path:
+    return require_fmu(request.param)
+
+
+@pytest.fixture
+def rlc_fmu() -> Path:
+    return require_fmu(DIST_DIR / "RlcCircuit.fmu")
+
+
+def pytest_report_header(config):
+    return [f"FMU dist dir: {DIST_DIR}", f"FMUs: {', '.join(p.name for p in all_fmu_paths())}"]

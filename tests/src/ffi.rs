@@ -1,0 +1,334 @@
+//! Raw FMI 2.0 C types (`fmi2TypesPlatform.h`, `fmi2FunctionTypes.h`) and the table of
+//! function pointers resolved from an FMU's shared library.
+//!
+//! Everything here is a plain transcription of the C declarations; the safe layer is
+//! [`crate::Instance`].
+
+use std::ffi::{c_char, c_int, c_void};
+use std::fmt;
+
+use libloading::Library;
+
+use crate::error::{Error, Result};
+
+/// `fmi2Component`: an opaque pointer to one FMU instance.
+pub type Component = *mut c_void;
+/// `fmi2ComponentEnvironment`: an opaque pointer handed back to the callbacks.
+pub type ComponentEnvironment = *mut c_void;
+/// `fmi2FMUstate`: an opaque pointer to a saved FMU state.
+pub type FmuStatePtr = *mut c_void;
+/// `fmi2ValueReference`.
+pub type ValueReference = u32;
+/// `fmi2Boolean` (`int`): 0 is `fmi2False`, 1 is `fmi2True`.
+pub type Fmi2Boolean = c_int;
+/// `fmi2True`.
+pub const FMI2_TRUE: Fmi2Boolean = 1;
+/// `fmi2False`.
+pub const FMI2_FALSE: Fmi2Boolean = 0;
+
+/// `fmi2Status`, kept as the raw `int` the FMU returned (an FMU returning an out-of-range value
+/// must not be undefined behaviour on our side, so this is not a Rust enum).
+#[repr(transparent)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Status(pub c_int);
+
+impl Status {
+    pub const OK: Status = Status(0);
+    pub const WARNING: Status = Status(1);
+    pub const DISCARD: Status = Status(2);
+    pub const ERROR: Status = Status(3);
+    pub const FATAL: Status = Status(4);
+    pub const PENDING: Status = Status(5);
+
+    /// The C name of the status (`"fmi2OK"`, ...), or `None` for an out-of-range value.
+    pub fn name(self) -> Option<&'static str> {
+        Some(match self.0 {
+            0 => "fmi2OK",
+            1 => "fmi2Warning",
+            2 => "fmi2Discard",
+            3 => "fmi2Error",
+            4 => "fmi2Fatal",
+            5 => "fmi2Pending",
+            _ => return None,
+        })
+    }
+
+    /// `fmi2OK` or `fmi2Warning`: the call did what was asked.
+    pub fn is_ok_or_warning(self) -> bool {
+        self == Status::OK || self == Status::WARNING
+    }
+}
+
+impl fmt::Debug for Status {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.name() {
+            Some(name) => f.write_str(name),
+            None => write!(f, "fmi2Status({})", self.0),
+        }
+    }
+}
+
+impl fmt::Display for Status {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(self, f)
+    }
+}
+
+/// `fmi2Type`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fmi2Type {
+    ModelExchange = 0,
+    CoSimulation = 1,
+}
+
+/// `fmi2StatusKind`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StatusKind {
+    DoStepStatus = 0,
+    PendingStatus = 1,
+    LastSuccessfulTime = 2,
+    Terminated = 3,
+}
+
+/// The logger callback **as this host declares it**.
+///
+/// The standard's `fmi2CallbackLogger` is C-variadic (`..., fmi2String message, ...)`); stable
+/// Rust cannot *define* a C-variadic function. On x86_64 System V (and aarch64 Linux) a caller
+/// passing the five fixed arguments of a variadic function puts them in the same registers as
+/// for a non-variadic one, so a non-variadic callee reads them correctly. The limitation: any
+/// variadic arguments the FMU passes are ignored and the message is not run through `printf`.
+/// The FMUs of this project pass the message pre-formatted, with every `%` doubled and no
+/// variadic arguments; the host turns `%%` back into `%`. A third-party FMU that relies on
+/// `printf` formatting would show its raw format string.
+pub type LoggerFn = unsafe extern "C" fn(
+    env: ComponentEnvironment,
+    instance_name: *const c_char,
+    status: Status,
+    category: *const c_char,
+    message: *const c_char,
+);
+/// `fmi2CallbackAllocateMemory`.
+pub type AllocateMemoryFn = unsafe extern "C" fn(nobj: usize, size: usize) -> *mut c_void;
+/// `fmi2CallbackFreeMemory`.
+pub type FreeMemoryFn = unsafe extern "C" fn(obj: *mut c_void);
+/// `fmi2StepFinished`.
+pub type StepFinishedFn = unsafe extern "C" fn(env: ComponentEnvironment, status: Status);
+
+/// `fmi2CallbackFunctions` (the header packs it with alignment 8, which is the natural layout
+/// of these five pointers anyway).
+#[repr(C)]
+#[derive(Debug)]
+pub struct CallbackFunctions {
+    pub logger: Option<LoggerFn>,
+    pub allocate_memory: Option<AllocateMemoryFn>,
+    pub free_memory: Option<FreeMemoryFn>,
+    pub step_finished: Option<StepFinishedFn>,
+    pub component_environment: ComponentEnvironment,
+}
+
+/// `fmi2EventInfo` (Model Exchange).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EventInfo {
+    pub new_discrete_states_needed: Fmi2Boolean,
+    pub terminate_simulation: Fmi2Boolean,
+    pub nominals_of_continuous_states_changed: Fmi2Boolean,
+    pub values_of_continuous_states_changed: Fmi2Boolean,
+    pub next_event_time_defined: Fmi2Boolean,
+    pub next_event_time: f64,
+}
+
+type Vr = *const ValueReference;
+
+// Common functions.
+pub type GetTypesPlatformFn = unsafe extern "C" fn() -> *const c_char;
+pub type GetVersionFn = unsafe extern "C" fn() -> *const c_char;
+pub type SetDebugLoggingFn =
+    unsafe extern "C" fn(Component, Fmi2Boolean, usize, *const *const c_char) -> Status;
+pub type InstantiateFn = unsafe extern "C" fn(
+    *const c_char,
+    Fmi2Type,
+    *const c_char,
+    *const c_char,
+    *const CallbackFunctions,
+    Fmi2Boolean,
+    Fmi2Boolean,
+) -> Component;
+pub type FreeInstanceFn = unsafe extern "C" fn(Component);
+pub type SetupExperimentFn =
+    unsafe extern "C" fn(Component, Fmi2Boolean, f64, f64, Fmi2Boolean, f64) -> Status;
+pub type ComponentFn = unsafe extern "C" fn(Component) -> Status;
+pub type GetRealFn = unsafe extern "C" fn(Component, Vr, usize, *mut f64) -> Status;
+pub type GetIntegerFn = unsafe extern "C" fn(Component, Vr, usize, *mut c_int) -> Status;
+pub type GetBooleanFn = unsafe extern "C" fn(Component, Vr, usize, *mut Fmi2Boolean) -> Status;
+pub type GetStringFn = unsafe extern "C" fn(Component, Vr, usize, *mut *const c_char) -> Status;
+pub type SetRealFn = unsafe extern "C" fn(Component, Vr, usize, *const f64) -> Status;
+pub type SetIntegerFn = unsafe extern "C" fn(Component, Vr, usize, *const c_int) -> Status;
+pub type SetBooleanFn = unsafe extern "C" fn(Component, Vr, usize, *const Fmi2Boolean) -> Status;
+pub type SetStringFn = unsafe extern "C" fn(Component, Vr, usize, *const *const c_char) -> Status;
+pub type GetFmuStateFn = unsafe extern "C" fn(Component, *mut FmuStatePtr) -> Status;
+pub type SetFmuStateFn = unsafe extern "C" fn(Component, FmuStatePtr) -> Status;
+pub type FreeFmuStateFn = unsafe extern "C" fn(Component, *mut FmuStatePtr) -> Status;
+pub type SerializedFmuStateSizeFn =
+    unsafe extern "C" fn(Component, FmuStatePtr, *mut usize) -> Status;
+pub type SerializeFmuStateFn =
+    unsafe extern "C" fn(Component, FmuStatePtr, *mut c_char, usize) -> Status;
+pub type DeSerializeFmuStateFn =
+    unsafe extern "C" fn(Component, *const c_char, usize, *mut FmuStatePtr) -> Status;
+pub type GetDirectionalDerivativeFn =
+    unsafe extern "C" fn(Component, Vr, usize, Vr, usize, *const f64, *mut f64) -> Status;
+
+// Model Exchange functions.
+pub type NewDiscreteStatesFn = unsafe extern "C" fn(Component, *mut EventInfo) -> Status;
+pub type CompletedIntegratorStepFn =
+    unsafe extern "C" fn(Component, Fmi2Boolean, *mut Fmi2Boolean, *mut Fmi2Boolean) -> Status;
+pub type SetTimeFn = unsafe extern "C" fn(Component, f64) -> Status;
+pub type SetContinuousStatesFn = unsafe extern "C" fn(Component, *const f64, usize) -> Status;
+pub type GetRealArrayFn = unsafe extern "C" fn(Component, *mut f64, usize) -> Status;
+
+// Co-Simulation functions.
+pub type SetRealInputDerivativesFn =
+    unsafe extern "C" fn(Component, Vr, usize, *const c_int, *const f64) -> Status;
+pub type GetRealOutputDerivativesFn =
+    unsafe extern "C" fn(Component, Vr, usize, *const c_int, *mut f64) -> Status;
+pub type DoStepFn = unsafe extern "C" fn(Component, f64, f64, Fmi2Boolean) -> Status;
+pub type GetStatusFn = unsafe extern "C" fn(Component, StatusKind, *mut Status) -> Status;
+pub type GetRealStatusFn = unsafe extern "C" fn(Component, StatusKind, *mut f64) -> Status;
+pub type GetIntegerStatusFn = unsafe extern "C" fn(Component, StatusKind, *mut c_int) -> Status;
+pub type GetBooleanStatusFn =
+    unsafe extern "C" fn(Component, StatusKind, *mut Fmi2Boolean) -> Status;
+pub type GetStringStatusFn =
+    unsafe extern "C" fn(Component, StatusKind, *mut *const c_char) -> Status;
+
+/// Every function of `fmi2Functions.h`, resolved from one shared library.
+///
+/// The common and Co-Simulation functions are required (loading fails without them); the
+/// Model Exchange ones are optional. The pointers are only valid while the [`Library`] they
+/// came from is loaded: [`crate::Fmu`] owns both and never hands this table out without itself.
+#[derive(Clone, Copy, Debug)]
+pub struct Functions {
+    // Common.
+    pub get_types_platform: GetTypesPlatformFn,
+    pub get_version: GetVersionFn,
+    pub set_debug_logging: SetDebugLoggingFn,
+    pub instantiate: InstantiateFn,
+    pub free_instance: FreeInstanceFn,
+    pub setup_experiment: SetupExperimentFn,
+    pub enter_initialization_mode: ComponentFn,
+    pub exit_initialization_mode: ComponentFn,
+    pub terminate: ComponentFn,
+    pub reset: ComponentFn,
+    pub get_real: GetRealFn,
+    pub get_integer: GetIntegerFn,
+    pub get_boolean: GetBooleanFn,
+    pub get_string: GetStringFn,
+    pub set_real: SetRealFn,
+    pub set_integer: SetIntegerFn,
+    pub set_boolean: SetBooleanFn,
+    pub set_string: SetStringFn,
+    pub get_fmu_state: GetFmuStateFn,
+    pub set_fmu_state: SetFmuStateFn,
+    pub free_fmu_state: FreeFmuStateFn,
+    pub serialized_fmu_state_size: SerializedFmuStateSizeFn,
+    pub serialize_fmu_state: SerializeFmuStateFn,
+    pub de_serialize_fmu_state: DeSerializeFmuStateFn,
+    pub get_directional_derivative: GetDirectionalDerivativeFn,
+    // Co-Simulation.
+    pub set_real_input_derivatives: SetRealInputDerivativesFn,
+    pub get_real_output_derivatives: GetRealOutputDerivativesFn,
+    pub do_step: DoStepFn,
+    pub cancel_step: ComponentFn,
+    pub get_status: GetStatusFn,
+    pub get_real_status: GetRealStatusFn,
+    pub get_integer_status: GetIntegerStatusFn,
+    pub get_boolean_status: GetBooleanStatusFn,
+    pub get_string_status: GetStringStatusFn,
+    // Model Exchange (optional).
+    pub enter_event_mode: Option<ComponentFn>,
+    pub new_discrete_states: Option<NewDiscreteStatesFn>,
+    pub enter_continuous_time_mode: Option<ComponentFn>,
+    pub completed_integrator_step: Option<CompletedIntegratorStepFn>,
+    pub set_time: Option<SetTimeFn>,
+    pub set_continuous_states: Option<SetContinuousStatesFn>,
+    pub get_derivatives: Option<GetRealArrayFn>,
+    pub get_event_indicators: Option<GetRealArrayFn>,
+    pub get_continuous_states: Option<GetRealArrayFn>,
+    pub get_nominals_of_continuous_states: Option<GetRealArrayFn>,
+}
+
+/// Looks up a required symbol.
+///
+/// # Safety
+/// `T` must be the exact function pointer type of the C function named `name`.
+unsafe fn required<T: Copy>(lib: &Library, name: &'static str) -> Result<T> {
+    match lib.get::<T>(name) {
+        Ok(symbol) => Ok(*symbol),
+        Err(source) => Err(Error::MissingSymbol { name, source }),
+    }
+}
+
+/// Looks up an optional symbol.
+///
+/// # Safety
+/// As for [`required`].
+unsafe fn optional<T: Copy>(lib: &Library, name: &'static str) -> Option<T> {
+    lib.get::<T>(name).ok().map(|symbol| *symbol)
+}
+
+impl Functions {
+    /// Resolves every `fmi2` function from `lib`.
+    ///
+    /// # Safety
+    /// `lib` must be an FMI 2.0 binary: the exported `fmi2...` symbols must have the signatures
+    /// of `fmi2FunctionTypes.h`. The returned pointers dangle once `lib` is unloaded.
+    pub unsafe fn load(lib: &Library) -> Result<Functions> {
+        Ok(Functions {
+            get_types_platform: required(lib, "fmi2GetTypesPlatform")?,
+            get_version: required(lib, "fmi2GetVersion")?,
+            set_debug_logging: required(lib, "fmi2SetDebugLogging")?,
+            instantiate: required(lib, "fmi2Instantiate")?,
+            free_instance: required(lib, "fmi2FreeInstance")?,
+            setup_experiment: required(lib, "fmi2SetupExperiment")?,
+            enter_initialization_mode: required(lib, "fmi2EnterInitializationMode")?,
+            exit_initialization_mode: required(lib, "fmi2ExitInitializationMode")?,
+            terminate: required(lib, "fmi2Terminate")?,
+            reset: required(lib, "fmi2Reset")?,
+            get_real: required(lib, "fmi2GetReal")?,
+            get_integer: required(lib, "fmi2GetInteger")?,
+            get_boolean: required(lib, "fmi2GetBoolean")?,
+            get_string: required(lib, "fmi2GetString")?,
+            set_real: required(lib, "fmi2SetReal")?,
+            set_integer: required(lib, "fmi2SetInteger")?,
+            set_boolean: required(lib, "fmi2SetBoolean")?,
+            set_string: required(lib, "fmi2SetString")?,
+            get_fmu_state: required(lib, "fmi2GetFMUstate")?,
+            set_fmu_state: required(lib, "fmi2SetFMUstate")?,
+            free_fmu_state: required(lib, "fmi2FreeFMUstate")?,
+            serialized_fmu_state_size: required(lib, "fmi2SerializedFMUstateSize")?,
+            serialize_fmu_state: required(lib, "fmi2SerializeFMUstate")?,
+            de_serialize_fmu_state: required(lib, "fmi2DeSerializeFMUstate")?,
+            get_directional_derivative: required(lib, "fmi2GetDirectionalDerivative")?,
+            set_real_input_derivatives: required(lib, "fmi2SetRealInputDerivatives")?,
+            get_real_output_derivatives: required(lib, "fmi2GetRealOutputDerivatives")?,
+            do_step: required(lib, "fmi2DoStep")?,
+            cancel_step: required(lib, "fmi2CancelStep")?,
+            get_status: required(lib, "fmi2GetStatus")?,
+            get_real_status: required(lib, "fmi2GetRealStatus")?,
+            get_integer_status: required(lib, "fmi2GetIntegerStatus")?,
+            get_boolean_status: required(lib, "fmi2GetBooleanStatus")?,
+            get_string_status: required(lib, "fmi2GetStringStatus")?,
+            enter_event_mode: optional(lib, "fmi2EnterEventMode"),
+            new_discrete_states: optional(lib, "fmi2NewDiscreteStates"),
+            enter_continuous_time_mode: optional(lib, "fmi2EnterContinuousTimeMode"),
+            completed_integrator_step: optional(lib, "fmi2CompletedIntegratorStep"),
+            set_time: optional(lib, "fmi2SetTime"),
+            set_continuous_states: optional(lib, "fmi2SetContinuousStates"),
+            get_derivatives: optional(lib, "fmi2GetDerivatives"),
+            get_event_indicators: optional(lib, "fmi2GetEventIndicators"),
+            get_continuous_states: optional(lib, "fmi2GetContinuousStates"),
+            get_nominals_of_continuous_states: optional(lib, "fmi2GetNominalsOfContinuousStates"),
+        })
+    }
+}
