@@ -6,14 +6,25 @@
 //! checks ([`instance`]), the ODE solver ([`integrate`]), FMU state save/restore/serialize
 //! ([`state`]), and the generated modelDescription.xml ([`description`]) and documentation.
 //!
-//! ```ignore
+//! ```
 //! use fmu_runtime::prelude::*;
+//!
+//! /// dx/dt = -rate x: a first-order decay.
 //! pub struct Decay { rate: Parameter, x: State, y: Output }
+//!
 //! impl Model for Decay {
-//!     fn info() -> ModelInfo { /* name, description, default experiment, solver, docs */ }
+//!     fn info() -> ModelInfo {
+//!         ModelInfo {
+//!             name: "Decay",
+//!             description: "First-order decay",
+//!             default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 5.0, step_size: 0.01 },
+//!             solver: Solver::ExplicitRungeKutta,
+//!             documentation: "<p>dx/dt = -rate x</p>",
+//!         }
+//!     }
 //!     fn declare(d: &mut Declarations) -> Self {
 //!         Decay {
-//!             rate: d.parameter("rate", 2.0, "Hz").min(0.0).describe("decay rate"),
+//!             rate: d.parameter("rate", 2.0, "Hz").positive().describe("decay rate"),
 //!             x: d.state("x", 1.0, "1").describe("amount"),
 //!             y: d.output("y", "1").describe("amount, observed"),
 //!         }
@@ -21,7 +32,12 @@
 //!     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) { der[self.x] = -k[self.rate] * k[self.x]; }
 //!     fn outputs(&self, k: &Knowns, out: &mut Outputs) { out[self.y] = k[self.x]; }
 //! }
-//! fmu_runtime::export_fmu!(Decay);
+//!
+//! // In a cdylib crate this one line makes the FMU: fmu_runtime::export_fmu!(Decay);
+//! let description = fmu_runtime::description::ModelDescription::of::<Decay>();
+//! assert!(description.xml.contains(r#"<ScalarVariable name="rate" valueReference="0""#));
+//! // y depends on the state x (index 2), der(x) on x; at initialization also on rate (index 1).
+//! assert!(description.xml.contains(r#"<Unknown index="4" dependencies="2"/>"#));
 //! ```
 pub mod description;
 pub mod documentation;

@@ -2,7 +2,7 @@
 //! references, the typed stores behind fmi2Get/Set, range checks and `modelDescription.xml` —
 //! is derived from that one declaration.
 //!
-//! ```ignore
+//! ```text
 //! let r = d.parameter("R_series", 1.0, "Ohm").min(0.0).describe("Line resistance");
 //! let i = d.state("i_L", 0.0, "A").describe("Line current");
 //! let y = d.output("i_absorbed", "A").describe("Absorbed current");
