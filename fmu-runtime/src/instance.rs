@@ -34,6 +34,10 @@ impl Failure {
 
 pub type CallResult<T = ()> = Result<T, Failure>;
 
+/// Time events one communication step may hold before the step is refused (a model announcing
+/// events that do not advance would otherwise loop forever).
+pub const MAX_EVENTS_PER_STEP: usize = 10_000;
+
 /// A value a master can get or set, typed as FMI types it.
 pub trait FmiValue: Copy {
     const TYPE: BaseType;
@@ -338,8 +342,7 @@ impl<M: Model> Instance<M> {
         }
         let t_end = t + h;
         let mut x = self.states.clone();
-        let integrator = self.integrator.as_mut().expect("made at the end of initialization");
-        if let Err(message) = integrator.advance(&self.values.known, t, &mut x, t_end) {
+        if let Err(message) = self.integrate(t, &mut x, t_end) {
             self.mode = Mode::StepFailed;
             return Err(Failure {
                 status: fmi2Discard,
@@ -351,6 +354,27 @@ impl<M: Model> Instance<M> {
         self.store_states();
         self.stale = true;
         Ok(())
+    }
+
+    /// Integrates from `t` to `t_end`, stopping at every time event the model announces.
+    fn integrate(&mut self, t: f64, x: &mut [f64], t_end: f64) -> Result<(), String> {
+        let integrator = self.integrator.as_mut().expect("made at the end of initialization");
+        let v = &self.values;
+        let mut now = t;
+        for _ in 0..MAX_EVENTS_PER_STEP {
+            let k = Knowns::new(now, &v.known, x, &v.integers, &v.booleans);
+            let next = match self.model.next_time_event(&k, now) {
+                Some(event) if event > now && event < t_end => event,
+                _ => t_end,
+            };
+            integrator.advance(&v.known, now, x, next)?;
+            if next == t_end {
+                return Ok(());
+            }
+            self.logger.log(fmi2OK, &format!("time event at t = {next} s"));
+            now = next;
+        }
+        Err(format!("more than {MAX_EVENTS_PER_STEP} time events in one communication step"))
     }
 
     pub fn terminate(&mut self) -> CallResult {
@@ -554,6 +578,22 @@ mod tests {
         assert_eq!(get(&mut i, 2).to_bits(), first.to_bits());
         i.free_fmu_state(saved).unwrap();
         assert!(i.free_fmu_state(saved).is_err());
+    }
+
+    #[test]
+    fn time_events_stop_the_solver_at_the_kink() {
+        // x' = 0 before t_on = 0.35 s, 1 after: x(1) = 0.65 s, although the communication step
+        // 0.5 s straddles the switch. The segment ending at t_on still sees the new slope in its
+        // last stage (the equations have no discrete mode), which costs ~1e-9 s here.
+        let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        i.setup_experiment(None, 0.0, None).unwrap();
+        i.enter_initialization_mode().unwrap();
+        i.exit_initialization_mode().unwrap();
+        i.do_step(0.0, 0.5).unwrap();
+        i.do_step(0.5, 0.5).unwrap();
+        let mut x = [0.0];
+        i.get(&[1], &mut x).unwrap();
+        assert!((x[0] - 0.65).abs() < 1e-8, "{}", x[0]);
     }
 
     #[test]

@@ -57,6 +57,13 @@ pub trait Model: Sized + Send + Sync + 'static {
         Ok(())
     }
 
+    /// The first instant strictly after `after` at which the equations change non-smoothly
+    /// (the end of a ramp, a voltage step, a short circuit). `fmi2DoStep` stops the solver
+    /// there and restarts it, instead of stepping across the kink. None: no more events.
+    fn next_time_event(&self, _k: &Knowns, _after: f64) -> Option<f64> {
+        None
+    }
+
     /// The state derivatives dx/dt at the knowns `k`.
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives);
 

@@ -40,3 +40,31 @@ impl Model for Decay {
     }
 }
 
+
+/// dx/dt = 0 before `t_on`, 1 after: a step the solver must not step across blindly.
+pub struct Switch {
+    t_on: Parameter,
+    x: State,
+}
+
+impl Model for Switch {
+    fn info() -> ModelInfo {
+        ModelInfo {
+            name: "Switch",
+            description: "a time event",
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 1.0, step_size: 0.1 },
+            solver: Solver::ExplicitRungeKutta,
+            documentation: "",
+        }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        Switch { t_on: d.parameter("t_on", 0.35, "s").describe("switch time"), x: d.state("x", 0.0, "s").describe("time since the switch") }
+    }
+    fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
+        (k[self.t_on] > after).then_some(k[self.t_on])
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        der[self.x] = if k.time() >= k[self.t_on] { 1.0 } else { 0.0 };
+    }
+    fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
+}
