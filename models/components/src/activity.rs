@@ -1,0 +1,31 @@
+//! Louca's activity index (chapter eq. 3.3): A_i = integral over the time window of |e_i f_i| dt,
+//! the amplitude of the energy flow through element i; elements are then ranked by their share
+//! of the total (Table 3.3).
+
+/// d A_i / dt for an element exchanging `power_w` (= e f).
+pub fn activity_rate(power_w: f64) -> f64 {
+    power_w.abs()
+}
+
+/// Each activity's share of their sum, in percent (all 0 while the sum is 0).
+pub fn shares_percent<const N: usize>(activities: [f64; N]) -> [f64; N] {
+    let total: f64 = activities.iter().sum();
+    if total > 0.0 {
+        activities.map(|a| 100.0 * a / total)
+    } else {
+        [0.0; N]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shares_sum_to_one_hundred() {
+        let s = shares_percent([1.0, 3.0, 4.0]);
+        assert_eq!(s, [12.5, 37.5, 50.0]);
+        assert_eq!(shares_percent([0.0, 0.0]), [0.0, 0.0]);
+        assert_eq!(activity_rate(-2.0), 2.0);
+    }
+}

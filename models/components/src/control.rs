@@ -1,0 +1,109 @@
+//! Signal elements of the variable-speed start (section 3.3.2, Figures 3.7 and 3.13): the speed
+//! set-point ramp, its second-order filter and the PI speed controller.
+
+use std::f64::consts::PI;
+
+/// A ramp from 0 to `target` over `duration_s` starting at t = 0 (a step when the duration is 0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpeedRamp {
+    pub target: f64,
+    pub duration_s: f64,
+}
+
+impl SpeedRamp {
+    pub fn value(&self, time_s: f64) -> f64 {
+        if time_s <= 0.0 && self.duration_s > 0.0 {
+            0.0
+        } else if time_s >= self.duration_s {
+            self.target
+        } else {
+            self.target * time_s / self.duration_s
+        }
+    }
+
+    /// d(value)/dt: the slope inside the ramp, 0 outside.
+    pub fn slope(&self, time_s: f64) -> f64 {
+        if self.duration_s > 0.0 && time_s >= 0.0 && time_s < self.duration_s {
+            self.target / self.duration_s
+        } else {
+            0.0
+        }
+    }
+
+    /// The kinks of the ramp after `after`, for the solver to stop at.
+    pub fn next_kink(&self, after: f64) -> Option<f64> {
+        [0.0, self.duration_s].into_iter().find(|t| *t > after)
+    }
+}
+
+/// y'' = wn^2 (u - y) - 2 zeta wn y': a second-order low-pass filter (unit static gain).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SecondOrderFilter {
+    pub natural_frequency_hz: f64,
+    pub damping: f64,
+}
+
+impl SecondOrderFilter {
+    /// y'' for input `u`, output `y` and its rate `y_rate`.
+    pub fn acceleration(&self, u: f64, y: f64, y_rate: f64) -> f64 {
+        let wn = 2.0 * PI * self.natural_frequency_hz;
+        wn * wn * (u - y) - 2.0 * self.damping * wn * y_rate
+    }
+}
+
+/// A PI controller with an output limit and anti-windup by conditional integration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PiController {
+    pub proportional_gain: f64,
+    pub integral_gain: f64,
+    pub output_limit: f64,
+}
+
+impl PiController {
+    /// The command, clamped to +/- the limit.
+    pub fn command(&self, error: f64, integral: f64) -> f64 {
+        (self.proportional_gain * error + self.integral_gain * integral).clamp(-self.output_limit, self.output_limit)
+    }
+
+    /// d(integral)/dt: the error, except while the command is clamped and the error would push
+    /// it further into the limit (so the integral does not wind up).
+    pub fn integral_rate(&self, error: f64, integral: f64) -> f64 {
+        let raw = self.proportional_gain * error + self.integral_gain * integral;
+        if (raw >= self.output_limit && error > 0.0) || (raw <= -self.output_limit && error < 0.0) {
+            0.0
+        } else {
+            error
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ramp_reaches_its_target_and_reports_its_kinks() {
+        let r = SpeedRamp { target: 150.0, duration_s: 10.0 };
+        assert_eq!((r.value(-1.0), r.value(5.0), r.value(12.0)), (0.0, 75.0, 150.0));
+        assert_eq!((r.slope(5.0), r.slope(10.0)), (15.0, 0.0));
+        assert_eq!((r.next_kink(-1.0), r.next_kink(0.0), r.next_kink(10.0)), (Some(0.0), Some(10.0), None));
+        let step = SpeedRamp { target: 150.0, duration_s: 0.0 };
+        assert_eq!((step.value(0.0), step.slope(0.0)), (150.0, 0.0));
+    }
+
+    #[test]
+    fn filter_rests_at_its_input() {
+        let f = SecondOrderFilter { natural_frequency_hz: 0.5, damping: 0.7 };
+        assert_eq!(f.acceleration(3.0, 3.0, 0.0), 0.0);
+        assert!(f.acceleration(3.0, 0.0, 0.0) > 0.0);
+    }
+
+    #[test]
+    fn pi_does_not_wind_up_in_saturation() {
+        let pi = PiController { proportional_gain: 10.0, integral_gain: 100.0, output_limit: 50.0 };
+        assert_eq!(pi.command(100.0, 0.0), 50.0);
+        assert_eq!(pi.integral_rate(100.0, 0.0), 0.0, "clamped high, error positive: hold");
+        assert_eq!(pi.integral_rate(-1.0, 10.0), -1.0, "clamped high, error negative: unwind");
+        assert_eq!(pi.integral_rate(1.0, 0.0), 1.0);
+    }
+}

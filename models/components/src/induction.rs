@@ -1,0 +1,268 @@
+//! The induction machine of the chapter's guideline example (section 3.1.2, Figure 3.2; levels
+//! a-d of Figure 3.5), from one set of parameters:
+//! * the steady-state T-equivalent circuit (per phase: R_s, L_s_sigma, then L_m in parallel with
+//!   R_r/s + L_r_sigma), which gives the torque-speed curve used by levels a-c;
+//! * the dq model with stator and rotor fluxes in the synchronous frame (level d), whose steady
+//!   state is exactly the equivalent circuit's.
+
+use crate::complex::Complex;
+use std::f64::consts::{PI, SQRT_2};
+
+/// Parameters of a three-phase, star-connected induction machine.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InductionMachine {
+    pub stator_resistance_ohm: f64,
+    pub rotor_resistance_ohm: f64,
+    pub stator_leakage_h: f64,
+    pub rotor_leakage_h: f64,
+    pub magnetizing_h: f64,
+    pub pole_pairs: f64,
+    /// Supply voltage, line to line, rms.
+    pub line_voltage_rms_v: f64,
+    pub frequency_hz: f64,
+}
+
+/// The machine at one speed in steady state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SteadyState {
+    pub slip: f64,
+    pub torque_n_m: f64,
+    pub stator_current_rms_a: f64,
+    /// Active power drawn from the supply, W.
+    pub electrical_power_w: f64,
+}
+
+/// Stator and rotor flux linkages in the synchronous frame (d along the stator voltage), Wb,
+/// peak-value (amplitude-invariant) scaling.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Fluxes {
+    pub stator_d: f64,
+    pub stator_q: f64,
+    pub rotor_d: f64,
+    pub rotor_q: f64,
+}
+
+/// What the dq model gives at one instant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DqResponse {
+    pub flux_rates: Fluxes,
+    pub torque_n_m: f64,
+    pub stator_current_rms_a: f64,
+    pub electrical_power_w: f64,
+}
+
+impl InductionMachine {
+    /// Electrical angular frequency of the supply, rad/s.
+    pub fn supply_angular_frequency(&self) -> f64 {
+        2.0 * PI * self.frequency_hz
+    }
+
+    /// Synchronous mechanical speed, rad/s.
+    pub fn synchronous_speed_rad_per_s(&self) -> f64 {
+        self.supply_angular_frequency() / self.pole_pairs
+    }
+
+    pub fn phase_voltage_rms_v(&self) -> f64 {
+        self.line_voltage_rms_v / 3f64.sqrt()
+    }
+
+    pub fn slip(&self, speed_rad_per_s: f64) -> f64 {
+        1.0 - speed_rad_per_s / self.synchronous_speed_rad_per_s()
+    }
+
+    /// Steady state at a mechanical speed, from the T-equivalent circuit.
+    pub fn steady_state(&self, speed_rad_per_s: f64) -> SteadyState {
+        self.steady_state_at_slip(self.slip(speed_rad_per_s))
+    }
+
+    /// Steady state at a slip: torque = air-gap power / synchronous speed, 3 |I_r|^2 R_r/s / W_s.
+    pub fn steady_state_at_slip(&self, slip: f64) -> SteadyState {
+        let w = self.supply_angular_frequency();
+        let v = Complex::new(self.phase_voltage_rms_v(), 0.0);
+        let z_s = Complex::new(self.stator_resistance_ohm, w * self.stator_leakage_h);
+        let z_m = Complex::new(0.0, w * self.magnetizing_h);
+        if slip == 0.0 {
+            let i_s = v / (z_s + z_m);
+            return SteadyState { slip, torque_n_m: 0.0, stator_current_rms_a: i_s.abs(), electrical_power_w: 3.0 * (v * i_s.conj()).re };
+        }
+        let z_r = Complex::new(self.rotor_resistance_ohm / slip, w * self.rotor_leakage_h);
+        let i_s = v / (z_s + z_m.parallel(z_r));
+        let i_r = i_s * z_m / (z_m + z_r);
+        let air_gap_power = 3.0 * i_r.norm_sqr() * self.rotor_resistance_ohm / slip;
+        SteadyState {
+            slip,
+            torque_n_m: air_gap_power / self.synchronous_speed_rad_per_s(),
+            stator_current_rms_a: i_s.abs(),
+            electrical_power_w: 3.0 * (v * i_s.conj()).re,
+        }
+    }
+
+    /// The slip of maximum (breakdown) torque, found by golden-section search on (0, 1].
+    pub fn breakdown_slip(&self) -> f64 {
+        let torque = |s: f64| self.steady_state_at_slip(s).torque_n_m;
+        let (mut a, mut b) = (1e-9, 1.0);
+        let g = (5f64.sqrt() - 1.0) / 2.0;
+        for _ in 0..100 {
+            let (c, d) = (b - g * (b - a), a + g * (b - a));
+            if torque(c) > torque(d) {
+                b = d;
+            } else {
+                a = c;
+            }
+        }
+        0.5 * (a + b)
+    }
+
+    /// The stable operating speed under a load torque curve (the speed between breakdown and
+    /// synchronism where motor and load torques balance), or None if the load exceeds the
+    /// breakdown torque there (the motor stalls).
+    pub fn stable_speed_rad_per_s(&self, load_torque_n_m: impl Fn(f64) -> f64) -> Option<f64> {
+        let w_sync = self.synchronous_speed_rad_per_s();
+        let excess = |w: f64| self.steady_state(w).torque_n_m - load_torque_n_m(w);
+        let (mut lo, mut hi) = (w_sync * (1.0 - self.breakdown_slip()), w_sync);
+        if excess(lo) < 0.0 {
+            return None;
+        }
+        if excess(hi) >= 0.0 {
+            return Some(hi);
+        }
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if excess(mid) >= 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some(0.5 * (lo + hi))
+    }
+
+    /// The slip, on the stable branch, at which the machine gives `torque` (clamped to the
+    /// breakdown torque): how a converter at rated flux (constant V/f) runs it.
+    pub fn stable_slip_for_torque(&self, torque_n_m: f64) -> f64 {
+        let s_bd = self.breakdown_slip();
+        let target = torque_n_m.abs();
+        let (mut lo, mut hi) = (0.0, s_bd);
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if self.steady_state_at_slip(mid).torque_n_m < target {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi) * torque_n_m.signum()
+    }
+
+    /// Self inductances and the determinant of the flux-current relation.
+    fn inductances(&self) -> (f64, f64, f64) {
+        let l_s = self.stator_leakage_h + self.magnetizing_h;
+        let l_r = self.rotor_leakage_h + self.magnetizing_h;
+        (l_s, l_r, l_s * l_r - self.magnetizing_h * self.magnetizing_h)
+    }
+
+    /// The dq model at a rotor speed: flux derivatives, torque, current and power.
+    /// d psi_s/dt = v_s - R_s i_s - j w_s psi_s;  d psi_r/dt = -R_r i_r - j (w_s - p w_m) psi_r;
+    /// T = 3/2 p (psi_sd i_sq - psi_sq i_sd), with the stator voltage on the d axis at its peak value.
+    pub fn dq_response(&self, psi: Fluxes, speed_rad_per_s: f64) -> DqResponse {
+        let (l_s, l_r, det) = self.inductances();
+        let l_m = self.magnetizing_h;
+        let i_sd = (l_r * psi.stator_d - l_m * psi.rotor_d) / det;
+        let i_sq = (l_r * psi.stator_q - l_m * psi.rotor_q) / det;
+        let i_rd = (l_s * psi.rotor_d - l_m * psi.stator_d) / det;
+        let i_rq = (l_s * psi.rotor_q - l_m * psi.stator_q) / det;
+        let w_s = self.supply_angular_frequency();
+        let w_slip = w_s - self.pole_pairs * speed_rad_per_s;
+        let v_sd = SQRT_2 * self.phase_voltage_rms_v();
+        DqResponse {
+            flux_rates: Fluxes {
+                stator_d: v_sd - self.stator_resistance_ohm * i_sd + w_s * psi.stator_q,
+                stator_q: -self.stator_resistance_ohm * i_sq - w_s * psi.stator_d,
+                rotor_d: -self.rotor_resistance_ohm * i_rd + w_slip * psi.rotor_q,
+                rotor_q: -self.rotor_resistance_ohm * i_rq - w_slip * psi.rotor_d,
+            },
+            torque_n_m: 1.5 * self.pole_pairs * (psi.stator_d * i_sq - psi.stator_q * i_sd),
+            stator_current_rms_a: i_sd.hypot(i_sq) / SQRT_2,
+            electrical_power_w: 1.5 * v_sd * i_sd,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 160 kW, 400 V, 4-pole machine of the MotorFan model.
+    pub fn machine() -> InductionMachine {
+        InductionMachine {
+            stator_resistance_ohm: 0.012,
+            rotor_resistance_ohm: 0.010,
+            stator_leakage_h: 2.5e-4,
+            rotor_leakage_h: 2.5e-4,
+            magnetizing_h: 0.01,
+            pole_pairs: 2.0,
+            line_voltage_rms_v: 400.0,
+            frequency_hz: 50.0,
+        }
+    }
+
+    #[test]
+    fn torque_speed_curve_has_the_usual_shape() {
+        let m = machine();
+        assert_eq!(m.steady_state(m.synchronous_speed_rad_per_s()).torque_n_m, 0.0);
+        let s_bd = m.breakdown_slip();
+        let t_bd = m.steady_state_at_slip(s_bd).torque_n_m;
+        assert!(t_bd > m.steady_state_at_slip(1.0).torque_n_m && t_bd > m.steady_state_at_slip(0.01).torque_n_m);
+        assert!(m.steady_state_at_slip(-0.01).torque_n_m < 0.0, "a generator above synchronism");
+        // Power balance: electrical power = air-gap power + stator copper losses.
+        let st = m.steady_state_at_slip(0.02);
+        let p_air = st.torque_n_m * m.synchronous_speed_rad_per_s();
+        let p_cu_s = 3.0 * st.stator_current_rms_a.powi(2) * m.stator_resistance_ohm;
+        assert!((st.electrical_power_w - p_air - p_cu_s).abs() < 1e-6 * st.electrical_power_w);
+    }
+
+    #[test]
+    fn stable_speed_balances_the_load() {
+        let m = machine();
+        let load = |w: f64| 1000.0 * (w / 155.0).powi(2);
+        let w = m.stable_speed_rad_per_s(load).unwrap();
+        assert!((m.steady_state(w).torque_n_m - load(w)).abs() < 1e-6);
+        assert!(m.slip(w) < m.breakdown_slip());
+        assert!(m.stable_speed_rad_per_s(|_| 1e6).is_none(), "overload stalls");
+        let s = m.stable_slip_for_torque(1000.0);
+        assert!((m.steady_state_at_slip(s).torque_n_m - 1000.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn dq_model_settles_on_the_equivalent_circuit() {
+        // Integrate the dq fluxes at a fixed speed (RK4, 2e-5 s, 4 s: ~4 rotor time constants
+        // of the short-circuited machine) and compare with the circuit.
+        let m = machine();
+        let w = m.synchronous_speed_rad_per_s() * (1.0 - 0.02);
+        let f = |p: Fluxes| m.dq_response(p, w).flux_rates;
+        let add = |p: Fluxes, d: Fluxes, h: f64| Fluxes {
+            stator_d: p.stator_d + h * d.stator_d,
+            stator_q: p.stator_q + h * d.stator_q,
+            rotor_d: p.rotor_d + h * d.rotor_d,
+            rotor_q: p.rotor_q + h * d.rotor_q,
+        };
+        let (mut p, h) = (Fluxes::default(), 2e-5);
+        for _ in 0..200_000 {
+            let k1 = f(p);
+            let k2 = f(add(p, k1, h / 2.0));
+            let k3 = f(add(p, k2, h / 2.0));
+            let k4 = f(add(p, k3, h));
+            p = Fluxes {
+                stator_d: p.stator_d + h / 6.0 * (k1.stator_d + 2.0 * k2.stator_d + 2.0 * k3.stator_d + k4.stator_d),
+                stator_q: p.stator_q + h / 6.0 * (k1.stator_q + 2.0 * k2.stator_q + 2.0 * k3.stator_q + k4.stator_q),
+                rotor_d: p.rotor_d + h / 6.0 * (k1.rotor_d + 2.0 * k2.rotor_d + 2.0 * k3.rotor_d + k4.rotor_d),
+                rotor_q: p.rotor_q + h / 6.0 * (k1.rotor_q + 2.0 * k2.rotor_q + 2.0 * k3.rotor_q + k4.rotor_q),
+            };
+        }
+        let dq = m.dq_response(p, w);
+        let ss = m.steady_state(w);
+        assert!((dq.torque_n_m - ss.torque_n_m).abs() < 1e-6 * ss.torque_n_m, "{} vs {}", dq.torque_n_m, ss.torque_n_m);
+        assert!((dq.stator_current_rms_a - ss.stator_current_rms_a).abs() < 1e-6 * ss.stator_current_rms_a);
+        assert!((dq.electrical_power_w - ss.electrical_power_w).abs() < 1e-6 * ss.electrical_power_w);
+    }
+}

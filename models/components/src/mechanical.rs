@@ -1,0 +1,161 @@
+//! Rotational mechanics (chapter sections 3.2-3.3, Figures 3.4 and 3.5): effort = torque (N m),
+//! flow = angular speed (rad/s).
+
+/// A rigid rotating body: J dw/dt = net torque (inertial storage, eq. 3.1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inertia {
+    pub inertia_kg_m2: f64,
+}
+
+impl Inertia {
+    /// dw/dt under a net torque, rad/s2.
+    pub fn acceleration_rad_per_s2(&self, net_torque_n_m: f64) -> f64 {
+        net_torque_n_m / self.inertia_kg_m2
+    }
+
+    /// Power stored per second, J dw/dt w, W (positive while speeding up).
+    pub fn power_w(&self, acceleration_rad_per_s2: f64, speed_rad_per_s: f64) -> f64 {
+        self.inertia_kg_m2 * acceleration_rad_per_s2 * speed_rad_per_s
+    }
+
+    /// Kinetic energy J w^2 / 2, J.
+    pub fn energy_j(&self, speed_rad_per_s: f64) -> f64 {
+        0.5 * self.inertia_kg_m2 * speed_rad_per_s * speed_rad_per_s
+    }
+}
+
+/// A shaft in torsion with internal damping: T = K theta + D dtheta/dt (eq. 3.2 gives K from
+/// the geometry).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TorsionSpring {
+    pub stiffness_n_m_per_rad: f64,
+    pub damping_n_m_s_per_rad: f64,
+}
+
+impl TorsionSpring {
+    /// Transmitted torque at a twist and twist rate, N m.
+    pub fn torque_n_m(&self, twist_rad: f64, twist_rate_rad_per_s: f64) -> f64 {
+        self.stiffness_n_m_per_rad * twist_rad + self.damping_n_m_s_per_rad * twist_rate_rad_per_s
+    }
+
+    /// Power into the elastic part, K theta dtheta/dt, W.
+    pub fn spring_power_w(&self, twist_rad: f64, twist_rate_rad_per_s: f64) -> f64 {
+        self.stiffness_n_m_per_rad * twist_rad * twist_rate_rad_per_s
+    }
+
+    /// Power dissipated by the internal damping, W (never negative).
+    pub fn damper_power_w(&self, twist_rate_rad_per_s: f64) -> f64 {
+        self.damping_n_m_s_per_rad * twist_rate_rad_per_s * twist_rate_rad_per_s
+    }
+
+    /// Natural frequency of this spring between two inertias, Hz: sqrt(K (1/J1 + 1/J2)) / 2 pi.
+    /// With `j2` infinite (an imposed speed on one side) it is sqrt(K/J1) / 2 pi (eq. 3.8).
+    pub fn natural_frequency_hz(&self, j1_kg_m2: f64, j2_kg_m2: f64) -> f64 {
+        (self.stiffness_n_m_per_rad * (1.0 / j1_kg_m2 + 1.0 / j2_kg_m2)).sqrt() / (2.0 * std::f64::consts::PI)
+    }
+}
+
+/// A massless reducer: ratio N = w_high / w_low, efficiency eta on the power flowing through it
+/// (section 3.3.1, level a: "the reducer with its transformation ratio and its efficiency").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reducer {
+    pub ratio: f64,
+    pub efficiency: f64,
+}
+
+impl Reducer {
+    /// Low-side speed for a high-side speed, rad/s.
+    pub fn low_speed(&self, high_speed_rad_per_s: f64) -> f64 {
+        high_speed_rad_per_s / self.ratio
+    }
+
+    /// Low-side torque delivered for a high-side torque, N m: the losses always reduce the
+    /// torque on the receiving side, so eta multiplies when power flows from the high side
+    /// (T w >= 0) and divides when it flows back.
+    pub fn low_side_torque_n_m(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+        if high_torque_n_m * high_speed_rad_per_s >= 0.0 {
+            self.ratio * self.efficiency * high_torque_n_m
+        } else {
+            self.ratio * high_torque_n_m / self.efficiency
+        }
+    }
+
+    /// High-side torque that delivers a given low-side torque, N m (the inverse of
+    /// `low_side_torque_n_m` at the same speed).
+    pub fn high_side_torque_n_m(&self, low_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+        if low_torque_n_m * high_speed_rad_per_s >= 0.0 {
+            low_torque_n_m / (self.ratio * self.efficiency)
+        } else {
+            low_torque_n_m * self.efficiency / self.ratio
+        }
+    }
+
+    /// A low-side inertia seen from the high side, J / N^2 (eqs. 3.4-3.7).
+    pub fn referred_inertia_kg_m2(&self, low_side_inertia_kg_m2: f64) -> f64 {
+        low_side_inertia_kg_m2 / (self.ratio * self.ratio)
+    }
+
+    /// Power lost in the gears, W (never negative).
+    pub fn loss_w(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+        let p_high = high_torque_n_m * high_speed_rad_per_s;
+        let p_low = self.low_side_torque_n_m(high_torque_n_m, high_speed_rad_per_s) * self.low_speed(high_speed_rad_per_s);
+        (p_high - p_low).abs()
+    }
+}
+
+/// Aerodynamic torque of fan blades, T = k w |w| (opposes the rotation; Table 3.1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FanLoad {
+    pub coefficient_n_m_s2_per_rad2: f64,
+}
+
+impl FanLoad {
+    pub fn torque_n_m(&self, speed_rad_per_s: f64) -> f64 {
+        self.coefficient_n_m_s2_per_rad2 * speed_rad_per_s * speed_rad_per_s.abs()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chapter_numbers_come_out() {
+        // Section 3.3.3: fan inertia referred to the high-speed axis 11.72 kg m2, and eq. 3.8
+        // sqrt(K/J_eq)/2pi = 1.4 Hz with the motor speed imposed; ~3.9 Hz with the motor free.
+        let reducer = Reducer { ratio: 10.0, efficiency: 0.97 };
+        let j_eq = reducer.referred_inertia_kg_m2(1172.0);
+        assert!((j_eq - 11.72).abs() < 1e-12);
+        let k = j_eq * (2.0 * std::f64::consts::PI * 1.4f64).powi(2);
+        let shaft = TorsionSpring { stiffness_n_m_per_rad: k, damping_n_m_s_per_rad: 0.0 };
+        assert!((shaft.natural_frequency_hz(j_eq, f64::INFINITY) - 1.4).abs() < 1e-12);
+        let free = shaft.natural_frequency_hz(j_eq, 1.72);
+        assert!((free - 3.91).abs() < 0.01, "{free}");
+    }
+
+    #[test]
+    fn reducer_losses_are_never_negative_and_inverse_is_exact() {
+        let r = Reducer { ratio: 10.0, efficiency: 0.97 };
+        for (t, w) in [(100.0, 150.0), (-100.0, 150.0), (100.0, -150.0), (-50.0, -10.0)] {
+            assert!(r.loss_w(t, w) >= 0.0);
+            let t_low = r.low_side_torque_n_m(t, w);
+            assert!((r.high_side_torque_n_m(t_low, w) - t).abs() < 1e-12);
+        }
+        // Forward: 3 % of the power is lost.
+        assert!((r.loss_w(100.0, 150.0) - 0.03 * 15000.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn storage_powers_are_rates_of_energy() {
+        let j = Inertia { inertia_kg_m2: 2.0 };
+        let (w, a) = (3.0, 0.5);
+        assert!((j.power_w(a, w) - j.inertia_kg_m2 * w * a).abs() < 1e-15);
+        assert_eq!(j.acceleration_rad_per_s2(4.0), 2.0);
+        assert_eq!(j.energy_j(3.0), 9.0);
+        let s = TorsionSpring { stiffness_n_m_per_rad: 10.0, damping_n_m_s_per_rad: 1.0 };
+        assert_eq!(s.torque_n_m(0.1, 2.0), 3.0);
+        assert_eq!(s.spring_power_w(0.1, 2.0), 2.0);
+        assert_eq!(s.damper_power_w(-2.0), 4.0);
+        assert_eq!(FanLoad { coefficient_n_m_s2_per_rad2: 2.0 }.torque_n_m(-3.0), -18.0);
+    }
+}
