@@ -34,6 +34,7 @@ impl BaseUnit {
 /// one-line change here (with its exponents: kg, m, s, A, K, rad).
 const KNOWN: &[(&str, BaseUnit)] = &[
     ("1", BaseUnit::ONE),
+    ("%", BaseUnit { factor: 0.01, ..BaseUnit::ONE }),
     ("s", BaseUnit::new(0, 0, 1, 0, 0, 0)),
     ("Hz", BaseUnit::new(0, 0, -1, 0, 0, 0)),
     ("m", BaseUnit::new(0, 1, 0, 0, 0, 0)),

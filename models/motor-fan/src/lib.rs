@@ -1,0 +1,448 @@
+//! MotorFan: the start-up of the cooling-tower electric fan, the chapter's guideline example
+//! (sections 3.1-3.3, Figures 3.2-3.13), at the four modelling levels of Figure 3.5, started
+//! direct-on-line or at variable speed (PI controller or inverse simulation, Figure 3.7) with an
+//! optional second-order set-point filter (Figure 3.13), with the activity index of each storage
+//! element (eq. 3.3, Table 3.3). The contract: `docs/motor-fan-spec.md`.
+//!
+//! Chain: induction motor (inertia J_motor) -> driveshaft on the high-speed side (K_shaft,
+//! D_shaft) -> reducer (gear_ratio N, gear_efficiency) -> fan (J_fan, torque k_fan w^2).
+//!
+//! Chosen values (the chapter gives J_motor = 1.72 kg m2, the fan inertia referred to the
+//! high-speed axis 11.72 kg m2 and the 1.4 Hz shaft resonance, and no motor data):
+//! * Motor: 160 kW, 400 V, 50 Hz, 2 pole pairs (1500 rpm synchronous), a usual rating for a
+//!   rotor inertia of 1.72 kg m2. Equivalent circuit R_s = 12 mOhm, R_r = 20 mOhm, leakages
+//!   0.25 mH each, L_m = 10 mH: 160 kW at 2.3 % slip (1042 N m at 153.5 rad/s, 265 A), breakdown
+//!   torque 2.8x rated at 12.9 % slip, locked-rotor torque 0.74x and current 5.5x rated. A
+//!   single-cage circuit cannot give both a catalogue motor's ~1 % slip and its ~2x locked-rotor
+//!   torque (deep rotor bars); R_r = 20 mOhm trades slip for a realistic start (with 10 mOhm the
+//!   slip is 1.1 % but the locked-rotor torque only 0.38x rated).
+//! * Reducer N = 10 (a 10 m cooling-tower fan turns at ~150 rpm), efficiency 0.97 (one stage);
+//!   J_fan = 11.72 x N^2 = 1172 kg m2 (eqs. 3.4-3.7).
+//! * K_shaft = 11.72 (2 pi 1.4)^2 = 906.85 N m/rad (eq. 3.8). This is a soft shaft: ~1.1 rad of
+//!   twist at rated torque — the chapter's 1.4 Hz implies it.
+//! * D_shaft = 5 N m s/rad: 2.4 % damping of the 1.4 Hz mode, 7 % of the 3.9 Hz mode.
+//! * k_fan = 42.9 N m s2/rad2: the fan absorbs the motor's rated torque at the rated speed
+//!   (k = N^3 eta T_rated / w_rated^2), so the direct start settles at rated slip.
+//! * PI speed controller: Kp = 200 N m s/rad, Ki = 2000 N m/rad (the closed loop on the whole
+//!   inertia has its poles near 2.5 Hz, above the shaft resonance), torque limit 2500 N m.
+
+use components::activity::{activity_rate, shares_percent};
+use components::{FanLoad, Fluxes, InductionMachine, Inertia, PiController, Reducer, SecondOrderFilter, SpeedRamp, TorsionSpring};
+use fmu_runtime::prelude::*;
+
+mod documentation;
+
+/// Modelling level (Figure 3.5), in increasing detail.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Level {
+    QuasiStatic,
+    Inertias,
+    Elastic,
+    Electrical,
+}
+
+/// How the motor is started (sections 3.3.1-3.3.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Start {
+    DirectOnLine,
+    PiControl,
+    InverseSimulation,
+}
+
+pub struct MotorFan {
+    level: IntegerParameter,
+    start_mode: IntegerParameter,
+    setpoint_filter: IntegerParameter,
+    keep_shaft_stiffness: BooleanParameter,
+    j_motor: Parameter,
+    j_fan: Parameter,
+    gear_ratio: Parameter,
+    gear_efficiency: Parameter,
+    k_shaft: Parameter,
+    d_shaft: Parameter,
+    k_fan: Parameter,
+    r_s: Parameter,
+    r_r: Parameter,
+    l_s_sigma: Parameter,
+    l_r_sigma: Parameter,
+    l_m: Parameter,
+    pole_pairs: Parameter,
+    u_supply: Parameter,
+    f_supply: Parameter,
+    speed_setpoint: Parameter,
+    ramp_time: Parameter,
+    kp: Parameter,
+    ki: Parameter,
+    t_limit: Parameter,
+    filter_below: Parameter,
+    filter_above: Parameter,
+    filter_damping: Parameter,
+    w_motor: State,
+    twist: State,
+    w_fan: State,
+    psi_sd: State,
+    psi_sq: State,
+    psi_rd: State,
+    psi_rq: State,
+    pi_integral: State,
+    reference: State,
+    reference_rate: State,
+    a_motor: State,
+    a_shaft: State,
+    a_fan: State,
+    y_motor_speed: Output,
+    y_fan_speed: Output,
+    y_shaft_torque: Output,
+    y_motor_torque: Output,
+    y_current: Output,
+    y_power: Output,
+    y_reference: Output,
+    y_a_motor: Output,
+    y_a_shaft: Output,
+    y_a_fan: Output,
+    y_share_motor: Output,
+    y_share_shaft: Output,
+    y_share_fan: Output,
+    j_equivalent: Local,
+}
+
+/// The drive train's elements at the current parameter values.
+struct Train {
+    motor: InductionMachine,
+    motor_inertia: Inertia,
+    shaft: TorsionSpring,
+    reducer: Reducer,
+    fan_inertia: Inertia,
+    fan: FanLoad,
+    controller: PiController,
+    ramp: SpeedRamp,
+}
+
+/// Everything the equations give at one instant; derivatives and outputs both read it.
+#[derive(Default)]
+struct Operating {
+    motor_speed: f64,
+    fan_speed: f64,
+    shaft_torque: f64,
+    motor_torque: f64,
+    current_rms: f64,
+    electrical_power: f64,
+    reference: f64,
+    motor_acceleration: f64,
+    fan_acceleration: f64,
+    twist_rate: f64,
+    reference_rate: f64,
+    reference_acceleration: f64,
+    integral_rate: f64,
+    flux_rates: Fluxes,
+    power_motor_inertia: f64,
+    power_shaft_spring: f64,
+    power_fan_inertia: f64,
+}
+
+impl MotorFan {
+    fn level(&self, k: &Knowns) -> Level {
+        match k[self.level] {
+            1 => Level::QuasiStatic,
+            2 => Level::Inertias,
+            3 => Level::Elastic,
+            _ => Level::Electrical,
+        }
+    }
+
+    fn start(&self, k: &Knowns) -> Start {
+        match k[self.start_mode] {
+            1 => Start::DirectOnLine,
+            2 => Start::PiControl,
+            _ => Start::InverseSimulation,
+        }
+    }
+
+    fn train(&self, k: &Knowns) -> Train {
+        Train {
+            motor: InductionMachine {
+                stator_resistance_ohm: k[self.r_s],
+                rotor_resistance_ohm: k[self.r_r],
+                stator_leakage_h: k[self.l_s_sigma],
+                rotor_leakage_h: k[self.l_r_sigma],
+                magnetizing_h: k[self.l_m],
+                pole_pairs: k[self.pole_pairs],
+                line_voltage_rms_v: k[self.u_supply],
+                frequency_hz: k[self.f_supply],
+            },
+            motor_inertia: Inertia { inertia_kg_m2: k[self.j_motor] },
+            shaft: TorsionSpring { stiffness_n_m_per_rad: k[self.k_shaft], damping_n_m_s_per_rad: k[self.d_shaft] },
+            reducer: Reducer { ratio: k[self.gear_ratio], efficiency: k[self.gear_efficiency] },
+            fan_inertia: Inertia { inertia_kg_m2: k[self.j_fan] },
+            fan: FanLoad { coefficient_n_m_s2_per_rad2: k[self.k_fan] },
+            controller: PiController { proportional_gain: k[self.kp], integral_gain: k[self.ki], output_limit: k[self.t_limit] },
+            ramp: SpeedRamp { target: k[self.speed_setpoint], duration_s: k[self.ramp_time] },
+        }
+    }
+
+    /// The speed set point after the optional filter: (w_ref, dw_ref/dt, d2w_ref/dt2).
+    fn reference(&self, k: &Knowns, train: &Train) -> (f64, f64, f64) {
+        let t = k.time();
+        let natural_frequency = match k[self.setpoint_filter] {
+            0 => return (train.ramp.value(t), train.ramp.slope(t), 0.0),
+            1 => k[self.filter_below],
+            _ => k[self.filter_above],
+        };
+        let filter = SecondOrderFilter { natural_frequency_hz: natural_frequency, damping: k[self.filter_damping] };
+        let (y, y_rate) = (k[self.reference], k[self.reference_rate]);
+        (y, y_rate, filter.acceleration(train.ramp.value(t), y, y_rate))
+    }
+
+    fn fluxes(&self, k: &Knowns) -> Fluxes {
+        Fluxes { stator_d: k[self.psi_sd], stator_q: k[self.psi_sq], rotor_d: k[self.psi_rd], rotor_q: k[self.psi_rq] }
+    }
+
+    /// The whole drive at the knowns `k`. The converter-fed current (a root search on the
+    /// torque curve) only when `with_electrical`: the derivatives do not need it.
+    fn operate(&self, k: &Knowns, with_electrical: bool) -> Operating {
+        let train = self.train(k);
+        let (level, start) = (self.level(k), self.start(k));
+        let (reference, reference_rate, reference_acceleration) = self.reference(k, &train);
+        let mut op = Operating { reference, reference_rate, reference_acceleration, ..Operating::default() };
+        if level == Level::QuasiStatic {
+            self.quasi_static(&train, start, &mut op);
+            return op;
+        }
+        let n = train.reducer.ratio;
+        let elastic = level >= Level::Elastic && k[self.keep_shaft_stiffness];
+        let w_m = if start == Start::InverseSimulation { reference } else { k[self.w_motor] };
+        let w_fan = if elastic { k[self.w_fan] } else { w_m / n };
+        let fan_torque = train.fan.torque_n_m(w_fan);
+
+        // Motor torque, unless the motor speed is imposed (then it follows from the rest).
+        let mut motor_torque = 0.0;
+        match start {
+            Start::DirectOnLine if level == Level::Electrical => {
+                let dq = train.motor.dq_response(self.fluxes(k), w_m);
+                motor_torque = dq.torque_n_m;
+                op.flux_rates = dq.flux_rates;
+                op.current_rms = dq.stator_current_rms_a;
+                op.electrical_power = dq.electrical_power_w;
+            }
+            Start::DirectOnLine => {
+                let st = train.motor.steady_state(w_m);
+                motor_torque = st.torque_n_m;
+                op.current_rms = st.stator_current_rms_a;
+                op.electrical_power = st.electrical_power_w;
+            }
+            Start::PiControl => {
+                let error = reference - w_m;
+                motor_torque = train.controller.command(error, k[self.pi_integral]);
+                op.integral_rate = train.controller.integral_rate(error, k[self.pi_integral]);
+            }
+            Start::InverseSimulation => {}
+        }
+
+        if elastic {
+            op.twist_rate = w_m - n * w_fan;
+            op.shaft_torque = train.shaft.torque_n_m(k[self.twist], op.twist_rate);
+            let low_torque = train.reducer.low_side_torque_n_m(op.shaft_torque, w_m);
+            op.fan_acceleration = train.fan_inertia.acceleration_rad_per_s2(low_torque - fan_torque);
+            if start == Start::InverseSimulation {
+                op.motor_acceleration = reference_rate;
+                motor_torque = train.motor_inertia.inertia_kg_m2 * reference_rate + op.shaft_torque;
+            } else {
+                op.motor_acceleration = train.motor_inertia.acceleration_rad_per_s2(motor_torque - op.shaft_torque);
+            }
+            op.power_shaft_spring = train.shaft.spring_power_w(k[self.twist], op.twist_rate);
+        } else {
+            // Rigid shaft: motor and fan accelerate together (w_fan = w_m / N).
+            let acceleration = if start == Start::InverseSimulation {
+                reference_rate
+            } else {
+                rigid_acceleration(&train, motor_torque, w_m, fan_torque)
+            };
+            let low_torque = train.fan_inertia.inertia_kg_m2 * acceleration / n + fan_torque;
+            op.shaft_torque = train.reducer.high_side_torque_n_m(low_torque, w_m);
+            if start == Start::InverseSimulation {
+                motor_torque = train.motor_inertia.inertia_kg_m2 * acceleration + op.shaft_torque;
+            }
+            op.motor_acceleration = acceleration;
+            op.fan_acceleration = acceleration / n;
+        }
+        if start != Start::DirectOnLine && with_electrical {
+            self.converter_fed(&train, motor_torque, w_m, &mut op);
+        }
+        op.motor_speed = w_m;
+        op.fan_speed = w_fan;
+        op.motor_torque = motor_torque;
+        op.power_motor_inertia = train.motor_inertia.power_w(op.motor_acceleration, w_m);
+        op.power_fan_inertia = train.fan_inertia.power_w(op.fan_acceleration, w_fan);
+        op
+    }
+
+    /// Level a: no storage; the speed is the torque balance (direct start) or the set point.
+    fn quasi_static(&self, train: &Train, start: Start, op: &mut Operating) {
+        let load_on_motor = |w: f64| train.reducer.high_side_torque_n_m(train.fan.torque_n_m(train.reducer.low_speed(w)), w);
+        let w_m = match start {
+            Start::DirectOnLine => train.motor.stable_speed_rad_per_s(load_on_motor).unwrap_or(0.0),
+            _ => op.reference,
+        };
+        op.motor_speed = w_m;
+        op.fan_speed = train.reducer.low_speed(w_m);
+        op.shaft_torque = load_on_motor(w_m);
+        op.motor_torque = op.shaft_torque;
+        if start == Start::DirectOnLine {
+            let st = train.motor.steady_state(w_m);
+            op.current_rms = st.stator_current_rms_a;
+            op.electrical_power = st.electrical_power_w;
+        } else {
+            self.converter_fed(train, op.motor_torque, w_m, op);
+        }
+    }
+
+    /// A converter-fed motor (controlled starts): the power it draws is the mechanical power
+    /// (an ideal converter and machine), its current that of the machine at rated flux
+    /// (constant V/f) giving that torque: the 50 Hz circuit at the slip of that torque.
+    fn converter_fed(&self, train: &Train, torque: f64, speed: f64, op: &mut Operating) {
+        let slip = train.motor.stable_slip_for_torque(torque);
+        op.current_rms = train.motor.steady_state_at_slip(slip).stator_current_rms_a;
+        op.electrical_power = torque * speed;
+    }
+}
+
+/// Rigid coupling: J_m a + T_shaft = T_m and T_shaft delivers J_fan a / N + T_fan through the
+/// reducer, whose efficiency depends on the direction of the power.
+fn rigid_acceleration(train: &Train, motor_torque: f64, w_m: f64, fan_torque: f64) -> f64 {
+    let (n, eta, j_m, j_fan) = (train.reducer.ratio, train.reducer.efficiency, train.motor_inertia.inertia_kg_m2, train.fan_inertia.inertia_kg_m2);
+    let forward = (motor_torque - fan_torque / (n * eta)) / (j_m + j_fan / (n * n * eta));
+    if (j_fan * forward / n + fan_torque) * w_m >= 0.0 {
+        forward
+    } else {
+        (motor_torque - fan_torque * eta / n) / (j_m + j_fan * eta / (n * n))
+    }
+}
+
+impl Model for MotorFan {
+    fn info() -> ModelInfo {
+        ModelInfo {
+            name: "MotorFan",
+            description: "Start-up of a cooling-tower fan: induction motor, driveshaft, reducer and fan at the modelling levels a-d of chapter 3 (Figure 3.5), direct-on-line or at variable speed (PI or inverse simulation), with activity indices",
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 30.0, step_size: 1e-3 },
+            solver: Solver::ExplicitRungeKutta,
+            documentation: documentation::HTML,
+        }
+    }
+
+    fn declare(d: &mut Declarations) -> Self {
+        MotorFan {
+            level: d.integer_parameter("level", 3).range(1, 4).describe("Modelling level (Figure 3.5): 1 = a quasi-static, 2 = b + inertias, 3 = c + driveshaft elasticity, 4 = d + electrical dynamics"),
+            start_mode: d.integer_parameter("start_mode", 1).range(1, 3).describe("1 = direct on line, 2 = PI speed control, 3 = inverse simulation (imposed speed), Figure 3.7"),
+            setpoint_filter: d.integer_parameter("setpoint_filter", 0).range(0, 2).describe("Second-order set-point filter (Figure 3.13): 0 = off, 1 = filter_frequency_below, 2 = filter_frequency_above"),
+            keep_shaft_stiffness: d.boolean_parameter("keep_shaft_stiffness", true).describe("false: rigid driveshaft at levels c and d (the reduced model of Figure 3.10)"),
+            j_motor: d.parameter("J_motor", 1.72, "kg.m2").positive().tunable().describe("Motor rotor inertia (chapter 3.3.3)"),
+            j_fan: d.parameter("J_fan", 1172.0, "kg.m2").positive().tunable().describe("Fan inertia on the low-speed side: 11.72 kg m2 x N^2 (eqs. 3.4-3.7)"),
+            gear_ratio: d.parameter("gear_ratio", 10.0, "1").positive().tunable().describe("Reducer ratio N = motor speed / fan speed (chosen)"),
+            gear_efficiency: d.parameter("gear_efficiency", 0.97, "1").positive().max(1.0).tunable().describe("Reducer efficiency on the power it transmits (chosen, one gear stage)"),
+            k_shaft: d.parameter("K_shaft", 906.85, "N.m/rad").positive().tunable().describe("Driveshaft torsional stiffness: 11.72 (2 pi 1.4 Hz)^2 (eq. 3.8)"),
+            d_shaft: d.parameter("D_shaft", 5.0, "N.m.s/rad").min(0.0).tunable().describe("Driveshaft internal damping (chosen: 2.4 % of critical for the 1.4 Hz mode)"),
+            k_fan: d.parameter("k_fan", 42.9, "N.m.s2/rad2").min(0.0).tunable().describe("Fan aerodynamic torque coefficient, T = k w_fan^2 (chosen: rated torque at rated speed)"),
+            r_s: d.parameter("R_s", 0.012, "Ohm").positive().tunable().describe("Stator resistance per phase (chosen, 160 kW 400 V motor)"),
+            r_r: d.parameter("R_r", 0.020, "Ohm").positive().tunable().describe("Rotor resistance per phase, referred to the stator (chosen)"),
+            l_s_sigma: d.parameter("L_s_sigma", 2.5e-4, "H").positive().tunable().describe("Stator leakage inductance (chosen)"),
+            l_r_sigma: d.parameter("L_r_sigma", 2.5e-4, "H").positive().tunable().describe("Rotor leakage inductance, referred to the stator (chosen)"),
+            l_m: d.parameter("L_m", 0.01, "H").positive().tunable().describe("Magnetising inductance (chosen)"),
+            pole_pairs: d.parameter("pole_pairs", 2.0, "1").positive().describe("Pole pairs: 2 gives 1500 rpm synchronous speed at 50 Hz (chosen)"),
+            u_supply: d.parameter("U_supply", 400.0, "V").min(0.0).tunable().describe("Supply voltage, line to line, rms (chosen)"),
+            f_supply: d.parameter("f_supply", 50.0, "Hz").positive().tunable().describe("Supply frequency (chapter: 50 Hz network)"),
+            speed_setpoint: d.parameter("speed_setpoint", 153.5, "rad/s").min(0.0).tunable().describe("Final motor speed of the variable-speed start (near the direct-on-line equilibrium)"),
+            ramp_time: d.parameter("ramp_time", 10.0, "s").min(0.0).tunable().describe("Duration of the set-point ramp, 0 = a step (chapter: 10 s)"),
+            kp: d.parameter("Kp_speed", 200.0, "N.m.s/rad").min(0.0).tunable().describe("PI speed controller proportional gain (chosen)"),
+            ki: d.parameter("Ki_speed", 2000.0, "N.m/rad").min(0.0).tunable().describe("PI speed controller integral gain (chosen)"),
+            t_limit: d.parameter("T_limit", 2500.0, "N.m").positive().tunable().describe("Torque limit of the converter-fed motor (chosen, ~2.4x rated)"),
+            filter_below: d.parameter("filter_frequency_below", 0.5, "Hz").positive().tunable().describe("Set-point filter natural frequency below the 1.4 Hz resonance (Figure 3.13)"),
+            filter_above: d.parameter("filter_frequency_above", 5.0, "Hz").positive().tunable().describe("Set-point filter natural frequency above the 1.4 Hz resonance (Figure 3.13)"),
+            filter_damping: d.parameter("filter_damping", 0.7, "1").positive().tunable().describe("Set-point filter damping ratio"),
+            w_motor: d.state("w_motor", 0.0, "rad/s").nominal(100.0).describe("Motor speed (frozen at level a)"),
+            twist: d.state("shaft_twist", 0.0, "rad").describe("Driveshaft twist (frozen unless the shaft is elastic)"),
+            w_fan: d.state("w_fan", 0.0, "rad/s").nominal(10.0).describe("Fan speed, low-speed side (follows w_motor/N when the shaft is rigid)"),
+            psi_sd: d.state("psi_sd", 0.0, "Wb").describe("Stator flux, d axis (level d, direct start; frozen otherwise)"),
+            psi_sq: d.state("psi_sq", 0.0, "Wb").describe("Stator flux, q axis (level d, direct start; frozen otherwise)"),
+            psi_rd: d.state("psi_rd", 0.0, "Wb").describe("Rotor flux, d axis (level d, direct start; frozen otherwise)"),
+            psi_rq: d.state("psi_rq", 0.0, "Wb").describe("Rotor flux, q axis (level d, direct start; frozen otherwise)"),
+            pi_integral: d.state("pi_integral", 0.0, "rad").nominal(10.0).describe("Integral of the speed error (PI start; frozen otherwise)"),
+            reference: d.state("reference_filtered", 0.0, "rad/s").nominal(100.0).describe("Filtered speed set point (filter on; frozen otherwise)"),
+            reference_rate: d.state("reference_filtered_rate", 0.0, "rad/s2").nominal(10.0).describe("Rate of the filtered speed set point"),
+            a_motor: d.state("A_motor_inertia", 0.0, "J").nominal(1e5).describe("Activity of the motor inertia (eq. 3.3)"),
+            a_shaft: d.state("A_shaft_stiffness", 0.0, "J").nominal(1e5).describe("Activity of the driveshaft stiffness (eq. 3.3)"),
+            a_fan: d.state("A_fan_inertia", 0.0, "J").nominal(1e5).describe("Activity of the fan inertia (eq. 3.3)"),
+            y_motor_speed: d.output("motor_speed", "rad/s").describe("Motor speed (high-speed axis)"),
+            y_fan_speed: d.output("fan_speed", "rad/s").describe("Fan speed (low-speed axis)"),
+            y_shaft_torque: d.output("shaft_torque", "N.m").describe("Driveshaft torque on the high-speed axis of the reducer (Figure 3.6)"),
+            y_motor_torque: d.output("motor_torque", "N.m").describe("Electromagnetic torque of the motor"),
+            y_current: d.output("stator_current_rms", "A").describe("Stator phase current, rms"),
+            y_power: d.output("electrical_power", "W").describe("Active power drawn (controlled starts: mechanical power through an ideal converter)"),
+            y_reference: d.output("speed_reference", "rad/s").describe("Speed set point after the filter"),
+            y_a_motor: d.output("activity_motor_inertia", "J").describe("Activity of the motor inertia, integral of |J_m dw/dt w| (eq. 3.3)"),
+            y_a_shaft: d.output("activity_shaft_stiffness", "J").describe("Activity of the shaft stiffness, integral of |K theta dtheta/dt| (eq. 3.3)"),
+            y_a_fan: d.output("activity_fan_inertia", "J").describe("Activity of the fan inertia, integral of |J_fan dw/dt w| (eq. 3.3)"),
+            y_share_motor: d.output("share_motor_inertia", "%").describe("Motor inertia's share of the total activity (Table 3.3)"),
+            y_share_shaft: d.output("share_shaft_stiffness", "%").describe("Shaft stiffness's share of the total activity (Table 3.3)"),
+            y_share_fan: d.output("share_fan_inertia", "%").describe("Fan inertia's share of the total activity (Table 3.3)"),
+            j_equivalent: d.calculated_parameter("J_fan_equivalent", "kg.m2").describe("Fan inertia referred to the high-speed axis, J_fan / N^2 (eq. 3.6; 11.72 in the chapter)"),
+        }
+    }
+
+    fn check(&self, k: &Knowns) -> Result<(), String> {
+        if self.start(k) == Start::InverseSimulation && k[self.ramp_time] == 0.0 && k[self.setpoint_filter] == 0 {
+            return Err("inverse simulation imposes the motor speed, so the set point must have a finite acceleration: \
+                        set ramp_time > 0 or a setpoint_filter"
+                .into());
+        }
+        Ok(())
+    }
+
+    fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
+        SpeedRamp { target: k[self.speed_setpoint], duration_s: k[self.ramp_time] }.next_kink(after)
+    }
+
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        if k[self.setpoint_filter] != 0 {
+            let (_, rate, acceleration) = self.reference(k, &self.train(k));
+            der[self.reference] = rate;
+            der[self.reference_rate] = acceleration;
+        }
+        if self.level(k) == Level::QuasiStatic {
+            return;
+        }
+        let op = self.operate(k, false);
+        der[self.w_motor] = op.motor_acceleration;
+        der[self.twist] = op.twist_rate;
+        der[self.w_fan] = op.fan_acceleration;
+        der[self.psi_sd] = op.flux_rates.stator_d;
+        der[self.psi_sq] = op.flux_rates.stator_q;
+        der[self.psi_rd] = op.flux_rates.rotor_d;
+        der[self.psi_rq] = op.flux_rates.rotor_q;
+        der[self.pi_integral] = op.integral_rate;
+        der[self.a_motor] = activity_rate(op.power_motor_inertia);
+        der[self.a_shaft] = activity_rate(op.power_shaft_spring);
+        der[self.a_fan] = activity_rate(op.power_fan_inertia);
+    }
+
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        let op = self.operate(k, true);
+        out[self.y_motor_speed] = op.motor_speed;
+        out[self.y_fan_speed] = op.fan_speed;
+        out[self.y_shaft_torque] = op.shaft_torque;
+        out[self.y_motor_torque] = op.motor_torque;
+        out[self.y_current] = op.current_rms;
+        out[self.y_power] = op.electrical_power;
+        out[self.y_reference] = op.reference;
+        let activities = [k[self.a_motor], k[self.a_shaft], k[self.a_fan]];
+        out[self.y_a_motor] = activities[0];
+        out[self.y_a_shaft] = activities[1];
+        out[self.y_a_fan] = activities[2];
+        let [m, s, f] = shares_percent(activities);
+        out[self.y_share_motor] = m;
+        out[self.y_share_shaft] = s;
+        out[self.y_share_fan] = f;
+        out[self.j_equivalent] = k[self.j_fan] / (k[self.gear_ratio] * k[self.gear_ratio]);
+    }
+}
+
+fmu_runtime::export_fmu!(MotorFan);
