@@ -22,7 +22,7 @@ use crate::log::CATEGORIES;
 use crate::model::Model;
 use crate::state::{fnv1a64, FNV_OFFSET};
 use crate::units;
-use crate::values::{Derivatives, Knowns, Outputs, Values};
+use crate::values::Values;
 use crate::variables::{Causality, Initial, Slot, Start, Variable, VariableTable};
 
 /// A generated description and its guid.
@@ -59,9 +59,7 @@ fn evaluate<M: Model>(model: &M, t: f64, values: &Values, states: &[f64]) -> Opt
     let mut calculated = values.calculated.clone();
     let mut derivatives = values.derivatives.clone();
     catch_unwind(AssertUnwindSafe(|| {
-        let k = Knowns::new(t, &values.known, states, &values.integers, &values.booleans);
-        model.derivatives(&k, &mut Derivatives::new(&mut derivatives));
-        model.outputs(&k, &mut Outputs::new(&mut calculated));
+        crate::model::evaluate(model, t, &values.known, states, &values.integers, &values.booleans, &mut derivatives, &mut calculated)
     }))
     .ok()?;
     Some((calculated, derivatives))
@@ -375,6 +373,20 @@ fn write_xml<M: Model>(table: &VariableTable, structure: &Structure) -> String {
     );
     empty(
         &mut w,
+        "ModelExchange",
+        &[
+            ("modelIdentifier", info.name.into()),
+            ("needsExecutionTool", yes_no(false)),
+            ("completedIntegratorStepNotNeeded", yes_no(true)),
+            ("canBeInstantiatedOnlyOncePerProcess", yes_no(false)),
+            ("canNotUseMemoryManagementFunctions", yes_no(true)),
+            ("canGetAndSetFMUstate", yes_no(true)),
+            ("canSerializeFMUstate", yes_no(true)),
+            ("providesDirectionalDerivative", yes_no(true)),
+        ],
+    );
+    empty(
+        &mut w,
         "CoSimulation",
         &[
             ("modelIdentifier", info.name.into()),
@@ -387,7 +399,7 @@ fn write_xml<M: Model>(table: &VariableTable, structure: &Structure) -> String {
             ("canNotUseMemoryManagementFunctions", yes_no(true)),
             ("canGetAndSetFMUstate", yes_no(true)),
             ("canSerializeFMUstate", yes_no(true)),
-            ("providesDirectionalDerivative", yes_no(false)),
+            ("providesDirectionalDerivative", yes_no(true)),
         ],
     );
     write_units(&mut w, table);

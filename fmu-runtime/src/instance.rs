@@ -14,9 +14,9 @@ use crate::fmi2::types::{fmi2Discard, fmi2Error, fmi2OK, fmi2Status, fmi2Warning
 use crate::integrate::{Integrator, DEFAULT_RELATIVE_TOLERANCE};
 use crate::lifecycle::Mode;
 use crate::log::Logger;
-use crate::model::{Model, ModelInfo};
+use crate::model::{evaluate, Model, ModelInfo};
 use crate::state::{Experiment, Shape, Snapshot, SnapshotStore};
-use crate::values::{Derivatives, Knowns, Outputs, Values};
+use crate::values::{Knowns, Values};
 use crate::variables::{BaseType, Slot, Variable, VariableTable};
 
 /// Why a call did not return fmi2OK: the status to return and the message for the logger.
@@ -102,7 +102,25 @@ impl FmiValue for bool {
     }
 }
 
+/// The interface an instance was made for (fmi2Instantiate's fmuType).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Interface {
+    CoSimulation,
+    ModelExchange,
+}
+
+/// What fmi2NewDiscreteStates reports (fmi2EventInfo).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EventInfo {
+    pub new_discrete_states_needed: bool,
+    pub terminate_simulation: bool,
+    pub nominals_changed: bool,
+    pub values_changed: bool,
+    pub next_event_time: Option<f64>,
+}
+
 pub struct Instance<M: Model> {
+    pub interface: Interface,
     model: Arc<M>,
     table: Arc<VariableTable>,
     info: ModelInfo,
@@ -122,12 +140,17 @@ pub struct Instance<M: Model> {
 
 impl<M: Model> Instance<M> {
     pub fn new(guid: &'static str, logger: Logger) -> Self {
+        Self::for_interface(Interface::CoSimulation, guid, logger)
+    }
+
+    pub fn for_interface(interface: Interface, guid: &'static str, logger: Logger) -> Self {
         let mut d = crate::variables::Declarations::new();
         let model = Arc::new(M::declare(&mut d));
         let table = Arc::new(d.into_table());
         let values = table.start_values();
         let n_states = table.n_states;
         let mut inst = Instance {
+            interface,
             model,
             table,
             info: M::info(),
@@ -180,10 +203,7 @@ impl<M: Model> Instance<M> {
             self.load_state_starts();
         }
         let v = &mut self.values;
-        let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
-        v.derivatives.fill(0.0);
-        self.model.derivatives(&k, &mut Derivatives::new(&mut v.derivatives));
-        self.model.outputs(&k, &mut Outputs::new(&mut v.calculated));
+        evaluate(&*self.model, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.derivatives, &mut v.calculated);
         self.stale = false;
     }
 
@@ -277,6 +297,12 @@ impl<M: Model> Instance<M> {
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
         self.load_state_starts();
+        if self.interface == Interface::ModelExchange {
+            self.mode = Mode::EventMode;
+            self.stale = true;
+            self.debug("initialization done, event mode");
+            return Ok(());
+        }
         match self.make_integrator() {
             Ok(integrator) => self.integrator = Some(integrator),
             Err(message) => {
@@ -405,6 +431,148 @@ impl<M: Model> Instance<M> {
         self.time
     }
 
+    // ---- Model Exchange -------------------------------------------------------------------
+
+    pub fn enter_event_mode(&mut self) -> CallResult {
+        self.mode = Mode::EventMode;
+        Ok(())
+    }
+
+    /// fmi2NewDiscreteStates: the models have no discrete states; the next time event is
+    /// the model's next kink after the current time.
+    pub fn new_discrete_states(&mut self) -> CallResult<EventInfo> {
+        let v = &self.values;
+        let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
+        let next_event_time = self.model.next_time_event(&k, self.time);
+        Ok(EventInfo { next_event_time, ..EventInfo::default() })
+    }
+
+    pub fn enter_continuous_time_mode(&mut self) -> CallResult {
+        self.mode = Mode::ContinuousTimeMode;
+        Ok(())
+    }
+
+    pub fn set_time(&mut self, t: f64) -> CallResult {
+        if !t.is_finite() {
+            return Err(Failure::error(format!("time {t} is not finite")));
+        }
+        self.time = t;
+        self.stale = true;
+        Ok(())
+    }
+
+    fn check_length(&self, n: usize, what: &str, expected: usize) -> CallResult {
+        if n != expected {
+            return Err(Failure::error(format!("{n} {what} given, this FMU has {expected}")));
+        }
+        Ok(())
+    }
+
+    pub fn set_continuous_states(&mut self, x: &[f64]) -> CallResult {
+        self.check_length(x.len(), "continuous states", self.table.n_states)?;
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            let name = &self.table.variables[self.table.state_value_reference[i] as usize].name;
+            return Err(Failure::error(format!("state {name} = {} is not finite", x[i])));
+        }
+        self.states.copy_from_slice(x);
+        self.store_states();
+        self.stale = true;
+        Ok(())
+    }
+
+    pub fn get_continuous_states(&mut self, x: &mut [f64]) -> CallResult {
+        self.check_length(x.len(), "continuous states", self.table.n_states)?;
+        self.refresh();
+        x.copy_from_slice(&self.states);
+        Ok(())
+    }
+
+    pub fn get_derivatives(&mut self, dx: &mut [f64]) -> CallResult {
+        self.check_length(dx.len(), "derivatives", self.table.n_states)?;
+        self.refresh();
+        dx.copy_from_slice(&self.values.derivatives);
+        Ok(())
+    }
+
+    pub fn get_nominals(&mut self, nominals: &mut [f64]) -> CallResult {
+        self.check_length(nominals.len(), "nominals", self.table.n_states)?;
+        nominals.copy_from_slice(&self.table.state_nominals());
+        Ok(())
+    }
+
+    /// fmi2GetEventIndicators: the models have none yet (numberOfEventIndicators = 0).
+    pub fn get_event_indicators(&mut self, z: &mut [f64]) -> CallResult {
+        self.check_length(z.len(), "event indicators", 0)
+    }
+
+    /// fmi2CompletedIntegratorStep: (enter event mode, terminate): never needed here.
+    pub fn completed_integrator_step(&mut self) -> CallResult<(bool, bool)> {
+        Ok((false, false))
+    }
+
+    // ---- Directional derivatives -------------------------------------------------------------
+
+    /// fmi2GetDirectionalDerivative: d(unknowns) = J d(knowns), by central differences of the
+    /// model's equations along the direction `dv_known` (step 1e-6 of the knowns' scale; about
+    /// 1e-9 relative accuracy on smooth equations). Knowns: states, inputs, parameters;
+    /// unknowns: state derivatives, outputs, locals and calculated parameters.
+    pub fn directional_derivative(&mut self, unknowns: &[u32], knowns: &[u32], dv_known: &[f64], dv_unknown: &mut [f64]) -> CallResult {
+        let mut slots = Vec::with_capacity(knowns.len());
+        for vr in knowns {
+            let var = self.variable(*vr, BaseType::Real)?;
+            let Slot::Known(i) = var.slot else {
+                return Err(Failure::error(format!("'{}' is not a known (a state, an input or a parameter)", var.name)));
+            };
+            let state = self.table.state_known_index.iter().position(|k| *k == i);
+            slots.push((i, state, var.nominal.unwrap_or(1.0).abs()));
+        }
+        for vr in unknowns {
+            let var = self.variable(*vr, BaseType::Real)?;
+            if !matches!(var.slot, Slot::Calculated(_) | Slot::Derivative(_)) {
+                return Err(Failure::error(format!("'{}' is not an unknown (a derivative or a computed value)", var.name)));
+            }
+        }
+        if let Some(j) = dv_known.iter().position(|v| !v.is_finite()) {
+            return Err(Failure::error(format!("the seed of known {} is not finite", knowns[j])));
+        }
+        self.refresh();
+        let (known, states) = (&self.values.known, &self.states);
+        let value = |j: usize| match slots[j].1 {
+            Some(s) => states[s],
+            None => known[slots[j].0],
+        };
+        let dv_max = dv_known.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        if dv_max == 0.0 {
+            dv_unknown.fill(0.0);
+            return Ok(());
+        }
+        let scale = (0..slots.len()).filter(|j| dv_known[*j] != 0.0).fold(0.0f64, |a, j| a.max(value(j).abs()).max(slots[j].2));
+        let h = 1e-6 * scale / dv_max;
+        let evaluate_at = |sign: f64| {
+            let (mut k, mut x) = (known.clone(), states.clone());
+            for (j, (i, state, _)) in slots.iter().enumerate() {
+                match state {
+                    Some(s) => x[*s] += sign * h * dv_known[j],
+                    None => k[*i] += sign * h * dv_known[j],
+                }
+            }
+            let (mut der, mut calc) = (self.values.derivatives.clone(), self.values.calculated.clone());
+            let v = &self.values;
+            evaluate(&*self.model, self.time, &k, &x, &v.integers, &v.booleans, &mut der, &mut calc);
+            (der, calc)
+        };
+        let (der_plus, calc_plus) = evaluate_at(1.0);
+        let (der_minus, calc_minus) = evaluate_at(-1.0);
+        for (out, vr) in dv_unknown.iter_mut().zip(unknowns) {
+            *out = match self.table.variables[*vr as usize].slot {
+                Slot::Derivative(i) => (der_plus[i] - der_minus[i]) / (2.0 * h),
+                Slot::Calculated(i) => (calc_plus[i] - calc_minus[i]) / (2.0 * h),
+                _ => unreachable!("checked above"),
+            };
+        }
+        Ok(())
+    }
+
     fn snapshot(&self) -> Snapshot {
         Snapshot {
             mode: self.mode,
@@ -425,7 +593,7 @@ impl<M: Model> Instance<M> {
         self.states = s.states;
         self.stale = true;
         self.integrator = None;
-        if initialized {
+        if initialized && self.interface == Interface::CoSimulation {
             let mut integrator = self.make_integrator().map_err(Failure::error)?;
             integrator.step_size = s.step_size;
             self.integrator = Some(integrator);
@@ -594,6 +762,46 @@ mod tests {
         let mut x = [0.0];
         i.get(&[1], &mut x).unwrap();
         assert!((x[0] - 0.65).abs() < 1e-8, "{}", x[0]);
+    }
+
+    #[test]
+    fn model_exchange_hands_the_states_to_the_master() {
+        let mut i = Instance::<Decay>::for_interface(Interface::ModelExchange, "{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        i.setup_experiment(None, 0.0, None).unwrap();
+        i.enter_initialization_mode().unwrap();
+        let mut x = [0.0];
+        i.get_continuous_states(&mut x).unwrap();
+        assert_eq!(x, [1.0], "the start value");
+        i.exit_initialization_mode().unwrap();
+        assert_eq!(i.mode, Mode::EventMode);
+        assert_eq!(i.new_discrete_states().unwrap().next_event_time, None);
+        i.enter_continuous_time_mode().unwrap();
+        i.set_time(0.5).unwrap();
+        i.set_continuous_states(&[3.0]).unwrap();
+        let mut dx = [0.0];
+        i.get_derivatives(&mut dx).unwrap();
+        assert_eq!(dx, [-6.0], "x' = -a x with a = 2");
+        assert_eq!(get(&mut i, 2), 3.0, "the state variable follows fmi2SetContinuousStates");
+        assert!(i.set_continuous_states(&[1.0, 2.0]).is_err());
+        assert!(i.set_continuous_states(&[f64::NAN]).is_err());
+    }
+
+    #[test]
+    fn directional_derivatives_match_the_equations() {
+        // x' = -a x + u, y = 2 x, w = a u (a = 2): d(x')/dx = -2, dy/dx = 2, dw/du = 2, d(x')/du = 1.
+        let mut i = initialized();
+        i.set(&[1], &[0.7]).unwrap();
+        let mut out = [0.0; 3];
+        i.directional_derivative(&[3, 4, 5], &[2], &[1.0], &mut out).unwrap();
+        for (got, want) in out.iter().zip([-2.0, 2.0, 0.0]) {
+            assert!((got - want).abs() < 1e-8, "{out:?}");
+        }
+        i.directional_derivative(&[3, 4, 5], &[1], &[1.0], &mut out).unwrap();
+        for (got, want) in out.iter().zip([1.0, 0.0, 2.0]) {
+            assert!((got - want).abs() < 1e-8, "{out:?}");
+        }
+        assert!(i.directional_derivative(&[0], &[1], &[1.0], &mut [0.0]).is_err(), "a parameter is no unknown");
+        assert!(i.directional_derivative(&[3], &[4], &[1.0], &mut [0.0]).is_err(), "an output is no known");
     }
 
     #[test]

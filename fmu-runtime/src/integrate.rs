@@ -35,7 +35,7 @@ type Equations = OdeSolverEquations<Mat, Closure<Mat, RhsFn, JacFn>, ConstantClo
 pub const MAX_INTERNAL_STEPS: usize = 200_000;
 
 /// Relative tolerance when the master gives none in fmi2SetupExperiment.
-pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-6;
+pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-7;
 
 /// Absolute tolerance of state i = `ABSOLUTE_PER_RELATIVE * rtol * nominal_i`.
 pub const ABSOLUTE_PER_RELATIVE: f64 = 1e-3;

@@ -1,6 +1,8 @@
-//! The FMI 2.0 Co-Simulation state machine (FMI 2.0.4, section 4.2.4): the modes an instance
-//! passes through and, in one table, which function may be called in which mode. Every fmi2
-//! function consults this table once, before doing anything.
+//! The FMI 2.0 state machines (FMI 2.0.4, sections 3.2.3 for Model Exchange and 4.2.4 for
+//! Co-Simulation): the modes an instance passes through and, in one table, which function may be
+//! called in which mode. Every fmi2 function consults this table once, before doing anything.
+//! A Co-Simulation instance never enters EventMode or ContinuousTimeMode, a Model Exchange
+//! instance never enters the Step* modes, so one table serves both.
 
 /// The mode of one instance. The discriminants are bits so that a set of modes is a mask.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -16,6 +18,10 @@ pub enum Mode {
     Terminated = 1 << 6,
     Error = 1 << 7,
     Fatal = 1 << 8,
+    /// Model Exchange: discrete changes are computed.
+    EventMode = 1 << 9,
+    /// Model Exchange: the master integrates the continuous states.
+    ContinuousTimeMode = 1 << 10,
 }
 
 impl Mode {
@@ -30,6 +36,8 @@ impl Mode {
             Mode::Terminated => "Terminated",
             Mode::Error => "Error",
             Mode::Fatal => "Fatal",
+            Mode::EventMode => "EventMode",
+            Mode::ContinuousTimeMode => "ContinuousTimeMode",
         }
     }
 
@@ -44,6 +52,8 @@ impl Mode {
             Mode::Terminated,
             Mode::Error,
             Mode::Fatal,
+            Mode::EventMode,
+            Mode::ContinuousTimeMode,
         ]
         .into_iter()
         .find(|m| *m as u16 == bits)
@@ -59,13 +69,17 @@ const CANCELED: u16 = Mode::StepCanceled as u16;
 const TERMINATED: u16 = Mode::Terminated as u16;
 const ERROR: u16 = Mode::Error as u16;
 const FATAL: u16 = Mode::Fatal as u16;
+const EVENT: u16 = Mode::EventMode as u16;
+const CONTINUOUS: u16 = Mode::ContinuousTimeMode as u16;
 
 /// After the slave is initialized, in any outcome of the last step.
 const INITIALIZED: u16 = COMPLETE | FAILED | CANCELED;
+/// A Model Exchange instance after initialization.
+const SIMULATING: u16 = EVENT | CONTINUOUS;
 /// Every mode but Fatal and StepInProgress: where an instance can be reset, freed, saved.
-const ALIVE: u16 = INSTANTIATED | INIT | INITIALIZED | TERMINATED | ERROR;
+const ALIVE: u16 = INSTANTIATED | INIT | INITIALIZED | SIMULATING | TERMINATED | ERROR;
 /// Where variables can be read.
-const READABLE: u16 = INIT | INITIALIZED | TERMINATED | ERROR;
+const READABLE: u16 = INIT | INITIALIZED | SIMULATING | TERMINATED | ERROR;
 
 /// The FMI functions whose legality depends on the mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,6 +100,17 @@ pub enum Function {
     DoStep,
     CancelStep,
     GetStatus,
+    // Model Exchange only.
+    EnterEventMode,
+    NewDiscreteStates,
+    EnterContinuousTimeMode,
+    CompletedIntegratorStep,
+    SetTime,
+    SetContinuousStates,
+    GetDerivatives,
+    GetEventIndicators,
+    GetContinuousStates,
+    GetNominalsOfContinuousStates,
 }
 
 impl Function {
@@ -97,10 +122,10 @@ impl Function {
             Function::FreeInstance => ALIVE | FATAL,
             Function::SetupExperiment | Function::EnterInitializationMode => INSTANTIATED,
             Function::ExitInitializationMode => INIT,
-            Function::Terminate => COMPLETE | FAILED,
+            Function::Terminate => COMPLETE | FAILED | SIMULATING,
             Function::Reset => ALIVE,
             Function::Get => READABLE,
-            Function::Set => INSTANTIATED | INIT | COMPLETE,
+            Function::Set => INSTANTIATED | INIT | COMPLETE | SIMULATING,
             Function::FmuState => ALIVE,
             Function::GetDirectionalDerivative => READABLE,
             Function::SetRealInputDerivatives => INSTANTIATED | INIT | COMPLETE,
@@ -108,7 +133,39 @@ impl Function {
             Function::DoStep => COMPLETE,
             Function::CancelStep => IN_PROGRESS,
             Function::GetStatus => COMPLETE | IN_PROGRESS | FAILED | TERMINATED,
+            Function::EnterEventMode => SIMULATING,
+            Function::NewDiscreteStates | Function::EnterContinuousTimeMode => EVENT,
+            Function::CompletedIntegratorStep | Function::SetContinuousStates => CONTINUOUS,
+            Function::SetTime => SIMULATING,
+            Function::GetDerivatives => SIMULATING | TERMINATED | ERROR,
+            Function::GetEventIndicators | Function::GetContinuousStates => INIT | SIMULATING | TERMINATED | ERROR,
+            Function::GetNominalsOfContinuousStates => INSTANTIATED | SIMULATING | TERMINATED | ERROR,
         }
+    }
+
+    /// Functions of the Model Exchange interface only (refused for a Co-Simulation instance).
+    pub fn is_model_exchange_only(self) -> bool {
+        matches!(
+            self,
+            Function::EnterEventMode
+                | Function::NewDiscreteStates
+                | Function::EnterContinuousTimeMode
+                | Function::CompletedIntegratorStep
+                | Function::SetTime
+                | Function::SetContinuousStates
+                | Function::GetDerivatives
+                | Function::GetEventIndicators
+                | Function::GetContinuousStates
+                | Function::GetNominalsOfContinuousStates
+        )
+    }
+
+    /// Functions of the Co-Simulation interface only (refused for a Model Exchange instance).
+    pub fn is_co_simulation_only(self) -> bool {
+        matches!(
+            self,
+            Function::DoStep | Function::CancelStep | Function::GetStatus | Function::SetRealInputDerivatives | Function::GetRealOutputDerivatives
+        )
     }
 
     pub fn is_allowed_in(self, mode: Mode) -> bool {
@@ -118,7 +175,7 @@ impl Function {
     /// The modes in which the function may be called, for an error message.
     pub fn allowed_mode_names(self) -> String {
         let mask = self.allowed();
-        (0..9)
+        (0..11)
             .filter_map(|b| Mode::from_bits(1 << b))
             .filter(|m| mask & *m as u16 != 0)
             .map(Mode::name)
@@ -152,6 +209,16 @@ mod tests {
             assert!(!f.is_allowed_in(Mode::Fatal), "{f:?}");
         }
         assert!(Function::FreeInstance.is_allowed_in(Mode::Fatal));
+    }
+
+    #[test]
+    fn model_exchange_modes() {
+        assert!(Function::SetContinuousStates.is_allowed_in(Mode::ContinuousTimeMode));
+        assert!(!Function::SetContinuousStates.is_allowed_in(Mode::EventMode));
+        assert!(Function::NewDiscreteStates.is_allowed_in(Mode::EventMode));
+        assert!(Function::Get.is_allowed_in(Mode::ContinuousTimeMode));
+        assert!(!Function::DoStep.is_allowed_in(Mode::ContinuousTimeMode));
+        assert!(Function::DoStep.is_co_simulation_only() && Function::SetTime.is_model_exchange_only());
     }
 
     #[test]

@@ -70,3 +70,22 @@ pub trait Model: Sized + Send + Sync + 'static {
     /// The outputs, locals and calculated parameters at the knowns `k`.
     fn outputs(&self, k: &Knowns, out: &mut Outputs);
 }
+
+/// Evaluates a model's equations at one point: the derivatives and the calculated values
+/// (outputs, locals, calculated parameters), written into `derivatives` and `calculated`.
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate<M: Model>(
+    model: &M,
+    time: f64,
+    known: &[f64],
+    states: &[f64],
+    integers: &[i32],
+    booleans: &[bool],
+    derivatives: &mut [f64],
+    calculated: &mut [f64],
+) {
+    let k = Knowns::new(time, known, states, integers, booleans);
+    derivatives.fill(0.0);
+    model.derivatives(&k, &mut Derivatives::new(derivatives));
+    model.outputs(&k, &mut Outputs::new(calculated));
+}

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::sync::{Arc, Barrier};
 
 use fmi_host::{
-    Causality, Fmi2Type, Fmu, FmuState, Instance, InstantiateOptions, ResourceLocation, StartValue,
+    Causality, Fmu, FmuState, Instance, InstantiateOptions, ResourceLocation, StartValue,
     Status, Variability, VariableType,
 };
 
@@ -642,9 +642,10 @@ fn model_description_matches_the_spec() {
         fmu.types_platform() == "default",
         format!("fmi2GetTypesPlatform() is {:?}", fmu.types_platform()),
     );
+    // Issue 5: every FMU offers Model Exchange beside Co-Simulation, from the same binary.
     check(
-        md.model_exchange.is_none(),
-        "has a <ModelExchange> element (Co-Simulation only, for now)".into(),
+        md.model_exchange.as_ref().is_some_and(|me| me.model_identifier == "RlcCircuit"),
+        "no <ModelExchange> element with modelIdentifier RlcCircuit".into(),
     );
     match md.co_simulation.as_ref() {
         None => check(false, "no <CoSimulation> element".into()),
@@ -681,8 +682,8 @@ fn model_description_matches_the_spec() {
                 ),
             );
             check(
-                !cs.provides_directional_derivative,
-                "providesDirectionalDerivative is true".into(),
+                cs.provides_directional_derivative,
+                "providesDirectionalDerivative is not true".into(),
             );
         }
     }
@@ -1392,16 +1393,22 @@ const MISUSES: &[Misuse] = &[
         },
     },
     Misuse {
-        name: "fmi2GetDirectionalDerivative (providesDirectionalDerivative = false)",
+        // An unknown must be a derivative or a computed value; R_series is a parameter.
+        name: "fmi2GetDirectionalDerivative of a parameter (not an unknown)",
         phase: StepMode,
         call: |c| {
             Ok(c.inst.get_directional_derivative(
-                &[c.vrs.outputs[1]],
+                &[c.vrs.r_series],
                 &[c.vrs.u_in],
                 &[1.0],
                 &mut [0.0],
             ))
         },
+    },
+    Misuse {
+        name: "fmi2SetTime (Model Exchange) on a Co-Simulation instance",
+        phase: StepMode,
+        call: |c| c.inst.set_time(0.05).map_err(|e| e.to_string()),
     },
     Misuse {
         name: "fmi2CancelStep with no pending step",
@@ -1432,15 +1439,9 @@ const BAD_INSTANTIATIONS: &[(&str, BadInstantiation)] = &[
             InstantiateOptions::new(name).guid("{00000000-0000-0000-0000-000000000000}"),
         )
     }),
-    (
-        "fmi2Instantiate as fmi2ModelExchange (not offered)",
-        |fmu, name| {
-            Instance::new(
-                fmu,
-                InstantiateOptions::new(name).fmu_type(Fmi2Type::ModelExchange),
-            )
-        },
-    ),
+    ("fmi2Instantiate with an empty instance name", |fmu, _| {
+        Instance::new(fmu, InstantiateOptions::new(""))
+    }),
 ];
 
 /// Every illegal call returns fmi2Error, logs a message with status fmi2Error, and the instance

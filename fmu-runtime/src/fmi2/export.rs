@@ -1,7 +1,7 @@
 //! `export_fmu!(MyModel)`: the one line a model crate writes to become an FMU.
 
-/// Exports every function of FMI 2.0 `fmi2Functions.h` (Co-Simulation, plus the Model
-/// Exchange symbols, which refuse until Model Exchange lands) for a type implementing
+/// Exports every function of FMI 2.0 `fmi2Functions.h` (Co-Simulation and Model Exchange)
+/// for a type implementing
 /// [`Model`](crate::Model), and three functions `build-fmus` reads:
 /// `fmu_runtime_model_identifier`, `fmu_runtime_model_description`, `fmu_runtime_documentation`.
 ///
@@ -149,14 +149,14 @@ macro_rules! export_fmu {
             #[no_mangle]
             pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
                 c: fmi2Component,
-                _unknowns: *const fmi2ValueReference,
-                _n_unknowns: usize,
-                _knowns: *const fmi2ValueReference,
-                _n_knowns: usize,
-                _dv_known: *const fmi2Real,
-                _dv_unknown: *mut fmi2Real,
+                unknowns: *const fmi2ValueReference,
+                n_unknowns: usize,
+                knowns: *const fmi2ValueReference,
+                n_knowns: usize,
+                dv_known: *const fmi2Real,
+                dv_unknown: *mut fmi2Real,
             ) -> fmi2Status {
-                f::get_directional_derivative::<M>(c)
+                f::get_directional_derivative::<M>(c, unknowns, n_unknowns, knowns, n_knowns, dv_known, dv_unknown)
             }
             #[no_mangle]
             pub unsafe extern "C" fn fmi2SetRealInputDerivatives(c: fmi2Component, _vr: *const fmi2ValueReference, _n: usize, _order: *const fmi2Integer, _v: *const fmi2Real) -> fmi2Status {
@@ -195,46 +195,46 @@ macro_rules! export_fmu {
                 f::get_string_status::<M>(c, k, v)
             }
 
-            // Model Exchange (fmi2Functions.h): refused until the Model Exchange issue lands.
+            // Model Exchange.
             #[no_mangle]
             pub unsafe extern "C" fn fmi2EnterEventMode(c: fmi2Component) -> fmi2Status {
-                f::model_exchange_only::<M>(c, "fmi2EnterEventMode")
+                f::enter_event_mode::<M>(c)
             }
             #[no_mangle]
-            pub unsafe extern "C" fn fmi2NewDiscreteStates(c: fmi2Component, _info: *mut std::os::raw::c_void) -> fmi2Status {
-                f::model_exchange_only::<M>(c, "fmi2NewDiscreteStates")
+            pub unsafe extern "C" fn fmi2NewDiscreteStates(c: fmi2Component, info: *mut fmi2EventInfo) -> fmi2Status {
+                f::new_discrete_states::<M>(c, info)
             }
             #[no_mangle]
             pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status {
-                f::model_exchange_only::<M>(c, "fmi2EnterContinuousTimeMode")
+                f::enter_continuous_time_mode::<M>(c)
             }
             #[no_mangle]
-            pub unsafe extern "C" fn fmi2CompletedIntegratorStep(c: fmi2Component, _no_prior: fmi2Boolean, _enter: *mut fmi2Boolean, _terminate: *mut fmi2Boolean) -> fmi2Status {
-                f::model_exchange_only::<M>(c, "fmi2CompletedIntegratorStep")
+            pub unsafe extern "C" fn fmi2CompletedIntegratorStep(c: fmi2Component, no_prior: fmi2Boolean, enter: *mut fmi2Boolean, terminate: *mut fmi2Boolean) -> fmi2Status {
+                f::completed_integrator_step::<M>(c, no_prior, enter, terminate)
             }
             #[no_mangle]
-            pub unsafe extern "C" fn fmi2SetTime(c: fmi2Component, _t: fmi2Real) -> fmi2Status {
-                f::model_exchange_only::<M>(c, "fmi2SetTime")
+            pub unsafe extern "C" fn fmi2SetTime(c: fmi2Component, t: fmi2Real) -> fmi2Status {
+                f::set_time::<M>(c, t)
             }
             #[no_mangle]
-            pub unsafe extern "C" fn fmi2SetContinuousStates(c: fmi2Component, _x: *const fmi2Real, _n: usize) -> fmi2Status {
-                f::model_exchange_only::<M>(c, "fmi2SetContinuousStates")
+            pub unsafe extern "C" fn fmi2SetContinuousStates(c: fmi2Component, x: *const fmi2Real, n: usize) -> fmi2Status {
+                f::set_continuous_states::<M>(c, x, n)
             }
             #[no_mangle]
-            pub unsafe extern "C" fn fmi2GetDerivatives(c: fmi2Component, _dx: *mut fmi2Real, _n: usize) -> fmi2Status {
-                f::model_exchange_only::<M>(c, "fmi2GetDerivatives")
+            pub unsafe extern "C" fn fmi2GetDerivatives(c: fmi2Component, dx: *mut fmi2Real, n: usize) -> fmi2Status {
+                f::get_derivatives::<M>(c, dx, n)
             }
             #[no_mangle]
-            pub unsafe extern "C" fn fmi2GetEventIndicators(c: fmi2Component, _z: *mut fmi2Real, _n: usize) -> fmi2Status {
-                f::model_exchange_only::<M>(c, "fmi2GetEventIndicators")
+            pub unsafe extern "C" fn fmi2GetEventIndicators(c: fmi2Component, z: *mut fmi2Real, n: usize) -> fmi2Status {
+                f::get_event_indicators::<M>(c, z, n)
             }
             #[no_mangle]
-            pub unsafe extern "C" fn fmi2GetContinuousStates(c: fmi2Component, _x: *mut fmi2Real, _n: usize) -> fmi2Status {
-                f::model_exchange_only::<M>(c, "fmi2GetContinuousStates")
+            pub unsafe extern "C" fn fmi2GetContinuousStates(c: fmi2Component, x: *mut fmi2Real, n: usize) -> fmi2Status {
+                f::get_continuous_states::<M>(c, x, n)
             }
             #[no_mangle]
-            pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(c: fmi2Component, _x: *mut fmi2Real, _n: usize) -> fmi2Status {
-                f::model_exchange_only::<M>(c, "fmi2GetNominalsOfContinuousStates")
+            pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(c: fmi2Component, x: *mut fmi2Real, n: usize) -> fmi2Status {
+                f::get_nominals_of_continuous_states::<M>(c, x, n)
             }
         }
     };

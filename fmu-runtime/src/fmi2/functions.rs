@@ -14,7 +14,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use super::types::*;
 use super::Exported;
-use crate::instance::{CallResult, Failure, FmiValue, Instance};
+use crate::instance::{CallResult, Failure, FmiValue, Instance, Interface};
 use crate::lifecycle::{Function, Mode};
 use crate::log::Logger;
 use crate::model::Model;
@@ -56,6 +56,13 @@ unsafe fn with<M: Model>(
         return fmi2Error;
     };
     let mode = comp.instance.mode;
+    let interface = comp.instance.interface;
+    if (function.is_model_exchange_only() && interface == Interface::CoSimulation)
+        || (function.is_co_simulation_only() && interface == Interface::ModelExchange)
+    {
+        comp.instance.logger.log(fmi2Error, &format!("{name} is not available: this instance was instantiated for {interface:?}"));
+        return fmi2Error;
+    }
     if !function.is_allowed_in(mode) {
         comp.instance.logger.log(
             if mode == Mode::Fatal { fmi2Fatal } else { fmi2Error },
@@ -141,17 +148,17 @@ pub unsafe fn instantiate<M: Model>(
     if name.is_empty() {
         return fail("the instance name is null or empty".into());
     }
-    if fmu_type != fmi2CoSimulation {
-        return fail(format!(
-            "this FMU offers Co-Simulation only (fmuType = fmi2CoSimulation), not fmuType = {fmu_type}"
-        ));
-    }
+    let interface = match fmu_type {
+        fmi2CoSimulation => Interface::CoSimulation,
+        fmi2ModelExchange => Interface::ModelExchange,
+        other => return fail(format!("fmuType {other} is neither fmi2ModelExchange (0) nor fmi2CoSimulation (1)")),
+    };
     match c_str(guid) {
         Some(g) if g == exported.guid => {}
         Some(g) => return fail(format!("guid {g} does not match this FMU's guid {}: modelDescription.xml and binary differ", exported.guid)),
         None => return fail("guid is null or not UTF-8".into()),
     }
-    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::new(&exported.guid, logger))) {
+    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::for_interface(interface, &exported.guid, logger))) {
         Ok(instance) => Box::into_raw(Box::new(Component { magic: MAGIC, instance, serialized: None })) as fmi2Component,
         Err(payload) => {
             // The logger moved into the closure; build a fresh one to report.
@@ -377,9 +384,21 @@ pub unsafe fn deserialize_fmu_state<M: Model>(c: fmi2Component, bytes: *const fm
     })
 }
 
-pub unsafe fn get_directional_derivative<M: Model>(c: fmi2Component) -> fmi2Status {
-    with::<M>(c, Function::GetDirectionalDerivative, "fmi2GetDirectionalDerivative", |_| {
-        Err(Failure::error("not provided by this FMU (providesDirectionalDerivative = false)"))
+pub unsafe fn get_directional_derivative<M: Model>(
+    c: fmi2Component,
+    unknowns: *const fmi2ValueReference,
+    n_unknowns: usize,
+    knowns: *const fmi2ValueReference,
+    n_knowns: usize,
+    dv_known: *const fmi2Real,
+    dv_unknown: *mut fmi2Real,
+) -> fmi2Status {
+    with::<M>(c, Function::GetDirectionalDerivative, "fmi2GetDirectionalDerivative", |comp| {
+        let unknowns = slice(unknowns, n_unknowns).ok_or_else(|| null("the unknowns' value references"))?;
+        let knowns = slice(knowns, n_knowns).ok_or_else(|| null("the knowns' value references"))?;
+        let dv_known = slice(dv_known, n_knowns).ok_or_else(|| null("the knowns' seed"))?;
+        let dv_unknown = slice_mut(dv_unknown, n_unknowns).ok_or_else(|| null("the unknowns' array"))?;
+        comp.instance.directional_derivative(unknowns, knowns, dv_known, dv_unknown)
     })
 }
 
@@ -454,12 +473,83 @@ pub unsafe fn get_string_status<M: Model>(c: fmi2Component, kind: fmi2StatusKind
     status_of::<M, fmi2String>(c, "fmi2GetStringStatus", kind, value, |_, k| Err(no_status(k, "String")))
 }
 
-/// Model Exchange functions: this FMU is Co-Simulation only until the Model Exchange issue
-/// lands; each is exported (so every symbol of fmi2Functions.h resolves) and refuses.
-pub unsafe fn model_exchange_only<M: Model>(c: fmi2Component, name: &str) -> fmi2Status {
-    let Some(comp) = component::<M>(c) else { return fmi2Error };
-    comp.instance.logger.log(fmi2Error, &format!("{name}: this FMU offers Co-Simulation only (no ModelExchange element)"));
-    fmi2Error
+// ---- Model Exchange ----------------------------------------------------------------------
+
+pub unsafe fn enter_event_mode<M: Model>(c: fmi2Component) -> fmi2Status {
+    with::<M>(c, Function::EnterEventMode, "fmi2EnterEventMode", |comp| comp.instance.enter_event_mode())
+}
+
+pub unsafe fn new_discrete_states<M: Model>(c: fmi2Component, info: *mut fmi2EventInfo) -> fmi2Status {
+    with::<M>(c, Function::NewDiscreteStates, "fmi2NewDiscreteStates", |comp| {
+        let info = info.as_mut().ok_or_else(|| null("the event info pointer"))?;
+        let e = comp.instance.new_discrete_states()?;
+        *info = fmi2EventInfo {
+            newDiscreteStatesNeeded: e.new_discrete_states_needed as fmi2Boolean,
+            terminateSimulation: e.terminate_simulation as fmi2Boolean,
+            nominalsOfContinuousStatesChanged: e.nominals_changed as fmi2Boolean,
+            valuesOfContinuousStatesChanged: e.values_changed as fmi2Boolean,
+            nextEventTimeDefined: e.next_event_time.is_some() as fmi2Boolean,
+            nextEventTime: e.next_event_time.unwrap_or(0.0),
+        };
+        Ok(())
+    })
+}
+
+pub unsafe fn enter_continuous_time_mode<M: Model>(c: fmi2Component) -> fmi2Status {
+    with::<M>(c, Function::EnterContinuousTimeMode, "fmi2EnterContinuousTimeMode", |comp| comp.instance.enter_continuous_time_mode())
+}
+
+pub unsafe fn completed_integrator_step<M: Model>(c: fmi2Component, _no_prior: fmi2Boolean, enter: *mut fmi2Boolean, terminate: *mut fmi2Boolean) -> fmi2Status {
+    with::<M>(c, Function::CompletedIntegratorStep, "fmi2CompletedIntegratorStep", |comp| {
+        let enter = enter.as_mut().ok_or_else(|| null("enterEventMode"))?;
+        let terminate = terminate.as_mut().ok_or_else(|| null("terminateSimulation"))?;
+        let (e, t) = comp.instance.completed_integrator_step()?;
+        *enter = e as fmi2Boolean;
+        *terminate = t as fmi2Boolean;
+        Ok(())
+    })
+}
+
+pub unsafe fn set_time<M: Model>(c: fmi2Component, t: fmi2Real) -> fmi2Status {
+    with::<M>(c, Function::SetTime, "fmi2SetTime", |comp| comp.instance.set_time(t))
+}
+
+pub unsafe fn set_continuous_states<M: Model>(c: fmi2Component, x: *const fmi2Real, n: usize) -> fmi2Status {
+    with::<M>(c, Function::SetContinuousStates, "fmi2SetContinuousStates", |comp| {
+        let x = slice(x, n).ok_or_else(|| null("the states array"))?;
+        comp.instance.set_continuous_states(x)
+    })
+}
+
+/// The fmi2Get* functions of Model Exchange that fill an array of n reals.
+unsafe fn get_array<M: Model>(
+    c: fmi2Component,
+    function: Function,
+    name: &str,
+    out: *mut fmi2Real,
+    n: usize,
+    get: impl FnOnce(&mut Instance<M>, &mut [f64]) -> CallResult,
+) -> fmi2Status {
+    with::<M>(c, function, name, |comp| {
+        let out = slice_mut(out, n).ok_or_else(|| null("the value array"))?;
+        get(&mut comp.instance, out)
+    })
+}
+
+pub unsafe fn get_derivatives<M: Model>(c: fmi2Component, dx: *mut fmi2Real, n: usize) -> fmi2Status {
+    get_array::<M>(c, Function::GetDerivatives, "fmi2GetDerivatives", dx, n, |i, out| i.get_derivatives(out))
+}
+
+pub unsafe fn get_event_indicators<M: Model>(c: fmi2Component, z: *mut fmi2Real, n: usize) -> fmi2Status {
+    get_array::<M>(c, Function::GetEventIndicators, "fmi2GetEventIndicators", z, n, |i, out| i.get_event_indicators(out))
+}
+
+pub unsafe fn get_continuous_states<M: Model>(c: fmi2Component, x: *mut fmi2Real, n: usize) -> fmi2Status {
+    get_array::<M>(c, Function::GetContinuousStates, "fmi2GetContinuousStates", x, n, |i, out| i.get_continuous_states(out))
+}
+
+pub unsafe fn get_nominals_of_continuous_states<M: Model>(c: fmi2Component, x: *mut fmi2Real, n: usize) -> fmi2Status {
+    get_array::<M>(c, Function::GetNominalsOfContinuousStates, "fmi2GetNominalsOfContinuousStates", x, n, |i, out| i.get_nominals(out))
 }
 
 #[cfg(test)]

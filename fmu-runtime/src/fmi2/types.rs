@@ -62,3 +62,14 @@ pub struct fmi2CallbackFunctions {
 
 pub const TYPES_PLATFORM: &std::ffi::CStr = c"default";
 pub const VERSION: &std::ffi::CStr = c"2.0";
+
+/// `fmi2EventInfo` (Model Exchange, fmi2NewDiscreteStates).
+#[repr(C)]
+pub struct fmi2EventInfo {
+    pub newDiscreteStatesNeeded: fmi2Boolean,
+    pub terminateSimulation: fmi2Boolean,
+    pub nominalsOfContinuousStatesChanged: fmi2Boolean,
+    pub valuesOfContinuousStatesChanged: fmi2Boolean,
+    pub nextEventTimeDefined: fmi2Boolean,
+    pub nextEventTime: fmi2Real,
+}

@@ -368,9 +368,9 @@ impl Model for MotorFan {
             pi_integral: d.state("pi_integral", 0.0, "rad").nominal(10.0).describe("Integral of the speed error (PI start; frozen otherwise)"),
             reference: d.state("reference_filtered", 0.0, "rad/s").nominal(100.0).describe("Filtered speed set point (filter on; frozen otherwise)"),
             reference_rate: d.state("reference_filtered_rate", 0.0, "rad/s2").nominal(10.0).describe("Rate of the filtered speed set point"),
-            a_motor: d.state("A_motor_inertia", 0.0, "J").nominal(1e5).describe("Activity of the motor inertia (eq. 3.3)"),
-            a_shaft: d.state("A_shaft_stiffness", 0.0, "J").nominal(1e5).describe("Activity of the driveshaft stiffness (eq. 3.3)"),
-            a_fan: d.state("A_fan_inertia", 0.0, "J").nominal(1e5).describe("Activity of the fan inertia (eq. 3.3)"),
+            a_motor: d.state("A_motor_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the motor inertia (eq. 3.3)"),
+            a_shaft: d.state("A_shaft_stiffness", 0.0, "J").nominal(1e-3).describe("Activity of the driveshaft stiffness (eq. 3.3)"),
+            a_fan: d.state("A_fan_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the fan inertia (eq. 3.3)"),
             y_motor_speed: d.output("motor_speed", "rad/s").describe("Motor speed (high-speed axis)"),
             y_fan_speed: d.output("fan_speed", "rad/s").describe("Fan speed (low-speed axis)"),
             y_shaft_torque: d.output("shaft_torque", "N.m").describe("Driveshaft torque on the high-speed axis of the reducer (Figure 3.6)"),
@@ -397,7 +397,11 @@ impl Model for MotorFan {
         Ok(())
     }
 
+    /// The set-point ramp's kinks, when a controlled start follows it.
     fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
+        if self.start(k) == Start::DirectOnLine {
+            return None;
+        }
         SpeedRamp { target: k[self.speed_setpoint], duration_s: k[self.ramp_time] }.next_kink(after)
     }
 
