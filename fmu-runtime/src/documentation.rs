@@ -84,7 +84,7 @@ solution stops being finite, is refused with <code>fmi2Discard</code> and the in
 <p>Model Exchange: the master's own solver integrates the same equations; the model's non-smooth instants
 (a ramp's end) are announced as time events through fmi2NewDiscreteStates.</p>
 <p>Capabilities: variable communication step size, get/set and serialize the FMU state, directional
-derivatives (central differences of the equations, about 1e-9 relative on smooth equations). Not (yet): input
+derivatives (central differences of the equations, 1e-7 relative step, about 1e-9 relative on smooth equations). Not (yet): input
 interpolation, output derivatives.</p>
 <h2>Run it</h2>
 <pre>import fmpy

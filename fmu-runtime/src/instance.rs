@@ -11,7 +11,7 @@
 use std::sync::Arc;
 
 use crate::fmi2::types::{fmi2Discard, fmi2Error, fmi2OK, fmi2Status, fmi2Warning};
-use crate::integrate::{Integrator, DEFAULT_RELATIVE_TOLERANCE};
+use crate::integrate::{InputMotion, Integrator, DEFAULT_RELATIVE_TOLERANCE};
 use crate::lifecycle::Mode;
 use crate::log::Logger;
 use crate::model::{evaluate, Model, ModelInfo};
@@ -136,6 +136,10 @@ pub struct Instance<M: Model> {
     stale: bool,
     integrator: Option<Integrator>,
     snapshots: SnapshotStore,
+    /// First and second time derivatives of the inputs for the next step (by known index;
+    /// fmi2SetRealInputDerivatives), cleared after each step and when the input is set.
+    input_slopes: Vec<f64>,
+    input_curvatures: Vec<f64>,
 }
 
 impl<M: Model> Instance<M> {
@@ -164,7 +168,11 @@ impl<M: Model> Instance<M> {
             stale: true,
             integrator: None,
             snapshots: SnapshotStore::default(),
+            input_slopes: Vec::new(),
+            input_curvatures: Vec::new(),
         };
+        inst.input_slopes = vec![0.0; inst.table.n_known];
+        inst.input_curvatures = vec![0.0; inst.table.n_known];
         inst.load_state_starts();
         inst
     }
@@ -255,6 +263,11 @@ impl<M: Model> Instance<M> {
         for (vr, v) in vrs.iter().zip(vals) {
             let slot = self.table.variables[*vr as usize].slot;
             T::write(&mut self.values, slot, *v);
+            if let Slot::Known(i) = slot {
+                // A new input value without derivatives is held over the next step.
+                self.input_slopes[i] = 0.0;
+                self.input_curvatures[i] = 0.0;
+            }
         }
         self.stale = true;
         Ok(())
@@ -378,6 +391,10 @@ impl<M: Model> Instance<M> {
         self.states = x;
         self.time = t_end;
         self.store_states();
+        // Input derivatives describe one step; the master sets new values (and derivatives)
+        // at the next communication point.
+        self.input_slopes.fill(0.0);
+        self.input_curvatures.fill(0.0);
         self.stale = true;
         Ok(())
     }
@@ -386,6 +403,7 @@ impl<M: Model> Instance<M> {
     fn integrate(&mut self, t: f64, x: &mut [f64], t_end: f64) -> Result<(), String> {
         let integrator = self.integrator.as_mut().expect("made at the end of initialization");
         let v = &self.values;
+        let motion = InputMotion { slopes: &self.input_slopes, curvatures: &self.input_curvatures, since: t };
         let mut now = t;
         for _ in 0..MAX_EVENTS_PER_STEP {
             let k = Knowns::new(now, &v.known, x, &v.integers, &v.booleans);
@@ -393,7 +411,7 @@ impl<M: Model> Instance<M> {
                 Some(event) if event > now && event < t_end => event,
                 _ => t_end,
             };
-            integrator.advance(&v.known, now, x, next)?;
+            integrator.advance(&v.known, &motion, now, x, next)?;
             if next == t_end {
                 return Ok(());
             }
@@ -415,6 +433,8 @@ impl<M: Model> Instance<M> {
         self.experiment = Experiment::default();
         self.time = 0.0;
         self.integrator = None;
+        self.input_slopes.fill(0.0);
+        self.input_curvatures.fill(0.0);
         self.mode = Mode::Instantiated;
         self.load_state_starts();
         self.stale = true;
@@ -429,6 +449,78 @@ impl<M: Model> Instance<M> {
     /// fmi2GetRealStatus(fmi2LastSuccessfulTime).
     pub fn last_successful_time(&self) -> f64 {
         self.time
+    }
+
+    // ---- Input and output derivatives (Co-Simulation) ----------------------------------------
+
+    /// fmi2SetRealInputDerivatives: first and second derivatives of inputs, used over the next
+    /// step (canInterpolateInputs).
+    pub fn set_input_derivatives(&mut self, vrs: &[u32], orders: &[i32], values: &[f64]) -> CallResult {
+        let mut updates = Vec::with_capacity(vrs.len());
+        for ((vr, order), value) in vrs.iter().zip(orders).zip(values) {
+            let var = self.variable(*vr, BaseType::Real)?;
+            let Slot::Known(i) = var.slot else { unreachable!("a Real known or computed") };
+            if var.causality != crate::variables::Causality::Input {
+                return Err(Failure::error(format!("'{}' is not an input", var.name)));
+            }
+            if !(1..=2).contains(order) {
+                return Err(Failure::error(format!("derivative order {order} of '{}': this FMU takes orders 1 and 2", var.name)));
+            }
+            if !value.is_finite() {
+                return Err(Failure::error(format!("derivative of '{}' = {value} is not finite", var.name)));
+            }
+            updates.push((i, *order, *value));
+        }
+        for (i, order, value) in updates {
+            if order == 1 {
+                self.input_slopes[i] = value;
+            } else {
+                self.input_curvatures[i] = value;
+            }
+        }
+        Ok(())
+    }
+
+    /// fmi2GetRealOutputDerivatives, order 1: dy/dt along the current motion (states moving with
+    /// their derivatives, inputs with the derivatives set for the next step, time), by central
+    /// differences over a time step h = 1e-6 of the fastest state's time scale (|x| / |dx/dt|).
+    pub fn output_derivatives(&mut self, vrs: &[u32], orders: &[i32], out: &mut [f64]) -> CallResult {
+        for (vr, order) in vrs.iter().zip(orders) {
+            let var = self.variable(*vr, BaseType::Real)?;
+            if var.causality != crate::variables::Causality::Output {
+                return Err(Failure::error(format!("'{}' is not an output", var.name)));
+            }
+            if *order != 1 {
+                return Err(Failure::error(format!("derivative order {order} of '{}': maxOutputDerivativeOrder is 1", var.name)));
+            }
+        }
+        self.refresh();
+        let nominals = self.table.state_nominals();
+        let time_scale = self
+            .states
+            .iter()
+            .zip(&self.values.derivatives)
+            .zip(&nominals)
+            .filter(|(( _, d), _)| **d != 0.0)
+            .map(|((x, d), n)| x.abs().max(n.abs()) / d.abs())
+            .fold(1.0f64, f64::min);
+        let h = 1e-6 * time_scale;
+        let v = &self.values;
+        let at = |sign: f64| {
+            let x: Vec<f64> = self.states.iter().zip(&v.derivatives).map(|(x, d)| x + sign * h * d).collect();
+            let k: Vec<f64> = (0..v.known.len())
+                .map(|i| v.known[i] + sign * h * self.input_slopes[i] + 0.5 * h * h * self.input_curvatures[i])
+                .collect();
+            let (mut der, mut calc) = (v.derivatives.clone(), v.calculated.clone());
+            evaluate(&*self.model, self.time + sign * h, &k, &x, &v.integers, &v.booleans, &mut der, &mut calc);
+            calc
+        };
+        let (plus, minus) = (at(1.0), at(-1.0));
+        for (o, vr) in out.iter_mut().zip(vrs) {
+            let Slot::Calculated(i) = self.table.variables[*vr as usize].slot else { unreachable!("an output") };
+            *o = (plus[i] - minus[i]) / (2.0 * h);
+        }
+        Ok(())
     }
 
     // ---- Model Exchange -------------------------------------------------------------------
@@ -513,8 +605,8 @@ impl<M: Model> Instance<M> {
     // ---- Directional derivatives -------------------------------------------------------------
 
     /// fmi2GetDirectionalDerivative: d(unknowns) = J d(knowns), by central differences of the
-    /// model's equations along the direction `dv_known` (step 1e-6 of the knowns' scale; about
-    /// 1e-9 relative accuracy on smooth equations). Knowns: states, inputs, parameters;
+    /// model's equations along the direction `dv_known` (step 1e-7 of the knowns' magnitude;
+    /// about 1e-9 relative accuracy on smooth equations). Knowns: states, inputs, parameters;
     /// unknowns: state derivatives, outputs, locals and calculated parameters.
     pub fn directional_derivative(&mut self, unknowns: &[u32], knowns: &[u32], dv_known: &[f64], dv_unknown: &mut [f64]) -> CallResult {
         let mut slots = Vec::with_capacity(knowns.len());
@@ -541,13 +633,20 @@ impl<M: Model> Instance<M> {
             Some(s) => states[s],
             None => known[slots[j].0],
         };
-        let dv_max = dv_known.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-        if dv_max == 0.0 {
+        if dv_known.iter().all(|v| *v == 0.0) {
             dv_unknown.fill(0.0);
             return Ok(());
         }
-        let scale = (0..slots.len()).filter(|j| dv_known[*j] != 0.0).fold(0.0f64, |a, j| a.max(value(j).abs()).max(slots[j].2));
-        let h = 1e-6 * scale / dv_max;
+        // Step: 1e-7 of each seeded known's magnitude (its nominal where it is 0), the smallest
+        // over the seed: small enough that a kink nearby is rarely straddled and truncation is
+        // ~1e-14, large enough that rounding stays near 1e-9 relative.
+        let h = (0..slots.len())
+            .filter(|j| dv_known[*j] != 0.0)
+            .map(|j| {
+                let magnitude = if value(j) != 0.0 { value(j).abs() } else { slots[j].2.max(f64::MIN_POSITIVE) };
+                1e-7 * magnitude / dv_known[j].abs()
+            })
+            .fold(f64::INFINITY, f64::min);
         let evaluate_at = |sign: f64| {
             let (mut k, mut x) = (known.clone(), states.clone());
             for (j, (i, state, _)) in slots.iter().enumerate() {
@@ -581,6 +680,8 @@ impl<M: Model> Instance<M> {
             values: self.values.clone(),
             states: self.states.clone(),
             step_size: self.integrator.as_ref().and_then(|i| i.step_size),
+            input_slopes: self.input_slopes.clone(),
+            input_curvatures: self.input_curvatures.clone(),
         }
     }
 
@@ -591,6 +692,8 @@ impl<M: Model> Instance<M> {
         self.experiment = s.experiment;
         self.values = s.values;
         self.states = s.states;
+        self.input_slopes = s.input_slopes;
+        self.input_curvatures = s.input_curvatures;
         self.stale = true;
         self.integrator = None;
         if initialized && self.interface == Interface::CoSimulation {
@@ -788,7 +891,8 @@ mod tests {
 
     #[test]
     fn directional_derivatives_match_the_equations() {
-        // x' = -a x + u, y = 2 x, w = a u (a = 2): d(x')/dx = -2, dy/dx = 2, dw/du = 2, d(x')/du = 1.
+        // x' = -a x + u, y = 2 x, w = a u (a = 2): d(x')/dx = -2, dy/dx = 2, dw/du = 2, d(x')/du = 1
+        // (central differences with a 1e-7 relative step: exact up to rounding, ~1e-9).
         let mut i = initialized();
         i.set(&[1], &[0.7]).unwrap();
         let mut out = [0.0; 3];
@@ -802,6 +906,41 @@ mod tests {
         }
         assert!(i.directional_derivative(&[0], &[1], &[1.0], &mut [0.0]).is_err(), "a parameter is no unknown");
         assert!(i.directional_derivative(&[3], &[4], &[1.0], &mut [0.0]).is_err(), "an output is no known");
+    }
+
+    #[test]
+    fn input_derivatives_move_the_input_over_one_step() {
+        // x' = -a x + u with u = u0 + s (t - t0) over [0, 1]: compare with a held input shifted
+        // by the exact solution's difference: x(1) - x_held(1) = s * (1 - (1 - e^-a)/a) / a.
+        let (a, s) = (2.0f64, 0.8);
+        let run = |slope: Option<f64>| {
+            let mut i = initialized();
+            if let Some(sl) = slope {
+                i.set_input_derivatives(&[1], &[1], &[sl]).unwrap();
+            }
+            i.do_step(0.0, 1.0).unwrap();
+            get(&mut i, 2)
+        };
+        let exact = s * (1.0 - (1.0 - (-a).exp()) / a) / a;
+        assert!(((run(Some(s)) - run(None)) - exact).abs() < 1e-6, "{} vs {exact}", run(Some(s)) - run(None));
+        let mut i = initialized();
+        assert!(i.set_input_derivatives(&[0], &[1], &[1.0]).is_err(), "a parameter is not an input");
+        assert!(i.set_input_derivatives(&[1], &[3], &[1.0]).is_err(), "order 3");
+    }
+
+    #[test]
+    fn output_derivatives_follow_the_motion() {
+        // y = 2 x, x' = -a x + u: dy/dt = 2 (-2 x + u); w = a u: dw/dt = a du/dt = 2 s.
+        let mut i = initialized();
+        i.set(&[1], &[0.5]).unwrap();
+        i.do_step(0.0, 0.1).unwrap();
+        i.set_input_derivatives(&[1], &[1], &[0.3]).unwrap();
+        let x = get(&mut i, 2);
+        let mut d = [0.0; 2];
+        i.output_derivatives(&[4, 5], &[1, 1], &mut d).unwrap();
+        assert!((d[0] - 2.0 * (-2.0 * x + 0.5)).abs() < 1e-7, "{d:?}");
+        assert!((d[1] - 0.6).abs() < 1e-7, "{d:?}");
+        assert!(i.output_derivatives(&[4], &[2], &mut [0.0]).is_err());
     }
 
     #[test]

@@ -2,8 +2,10 @@
 //!
 //! The `OdeSolverProblem` is built once per instance (at the end of initialization). Its
 //! parameter vector is the instance's store of known reals (parameters, inputs, state start
-//! values), refreshed before each step, so inputs set by the master between steps are held
-//! constant over the step (zero-order hold). Each `advance` makes the solver from our own
+//! values) followed by each known's first and second time derivative and the time they refer
+//! to, refreshed before each step: inputs set by the master are held constant over the step
+//! (zero-order hold) unless the master gave their derivatives (fmi2SetRealInputDerivatives),
+//! then they follow u + u' (t - t_k) + u'' (t - t_k)^2 / 2. Each `advance` makes the solver from our own
 //! `(t, x, h)` — the communication point, the state and the step size the solver reached last —
 //! so that an FMU state saved and restored (or serialized) continues bit-identically: nothing
 //! else carries over between steps. The instance keeps its own exact time; the solver's time
@@ -40,11 +42,41 @@ pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-7;
 /// Absolute tolerance of state i = `ABSOLUTE_PER_RELATIVE * rtol * nominal_i`.
 pub const ABSOLUTE_PER_RELATIVE: f64 = 1e-3;
 
-/// The right-hand side f(t, x) of a model at fixed parameters and inputs, as diffsol calls it.
-fn rhs_of<M: Model>(model: Arc<M>, integers: Arc<[i32]>, booleans: Arc<[bool]>) -> impl Fn(&[f64], &[f64], f64, &mut [f64]) + Clone {
+/// How the knowns move over a step: each known's first and second time derivative (zero but
+/// for inputs whose derivatives the master set) and the time they refer to.
+pub struct InputMotion<'a> {
+    pub slopes: &'a [f64],
+    pub curvatures: &'a [f64],
+    pub since: f64,
+}
+
+/// The solver's parameter vector: [known (n), slopes (n), curvatures (n), since, moving].
+fn parameters(known: &[f64], motion: &InputMotion) -> Vec<f64> {
+    let moving = motion.slopes.iter().chain(motion.curvatures).any(|v| *v != 0.0);
+    let mut p = Vec::with_capacity(3 * known.len() + 2);
+    p.extend_from_slice(known);
+    p.extend_from_slice(motion.slopes);
+    p.extend_from_slice(motion.curvatures);
+    p.push(motion.since);
+    p.push(if moving { 1.0 } else { 0.0 });
+    p
+}
+
+/// The right-hand side f(t, x) of a model, as diffsol calls it, with the parameter vector of
+/// `parameters`: the knowns are extrapolated to t only when some input moves.
+fn rhs_of<M: Model>(model: Arc<M>, integers: Arc<[i32]>, booleans: Arc<[bool]>, n_known: usize) -> impl Fn(&[f64], &[f64], f64, &mut [f64]) + Clone {
     move |x: &[f64], p: &[f64], t: f64, dx: &mut [f64]| {
-        let k = Knowns::new(t, p, x, &integers, &booleans);
         dx.fill(0.0);
+        let known = &p[..n_known];
+        if p[3 * n_known + 1] == 0.0 {
+            let k = Knowns::new(t, known, x, &integers, &booleans);
+            model.derivatives(&k, &mut Derivatives::new(dx));
+            return;
+        }
+        let tau = t - p[3 * n_known];
+        let (slopes, curvatures) = (&p[n_known..2 * n_known], &p[2 * n_known..3 * n_known]);
+        let moved: Vec<f64> = (0..n_known).map(|i| known[i] + slopes[i] * tau + 0.5 * curvatures[i] * tau * tau).collect();
+        let k = Knowns::new(t, &moved, x, &integers, &booleans);
         model.derivatives(&k, &mut Derivatives::new(dx));
     }
 }
@@ -75,7 +107,7 @@ impl Integrator {
     ) -> Result<Self, String> {
         let integers: Arc<[i32]> = integers.into();
         let booleans: Arc<[bool]> = booleans.into();
-        let f = rhs_of(model, integers, booleans);
+        let f = rhs_of(model, integers, booleans, known.len());
         let f_jac = f.clone();
         // Jacobian-vector product by a forward difference along v (exact Jacobians come with
         // the Model Exchange issue); only the implicit method calls it.
@@ -101,7 +133,7 @@ impl Integrator {
         let problem = OdeBuilder::<Mat>::new()
             .rtol(rtol)
             .atol(atol.clone())
-            .p(known.iter().copied())
+            .p(parameters(known, &InputMotion { slopes: &vec![0.0; known.len()], curvatures: &vec![0.0; known.len()], since: 0.0 }))
             .rhs_implicit(Box::new(f) as RhsFn, jac)
             .init(init, n_states)
             .build()
@@ -109,9 +141,10 @@ impl Integrator {
         Ok(Integrator { problem, rhs, method, rtol, atol, step_size: None })
     }
 
-    /// Advances `x` from `t0` to `t1` with the knowns held at `known`. On error `x` is left
-    /// unchanged and the message says why (the caller reports it through the FMI logger).
-    pub fn advance(&mut self, known: &[f64], t0: f64, x: &mut [f64], t1: f64) -> Result<(), String> {
+    /// Advances `x` from `t0` to `t1` with the knowns at `known` moving as `motion` says. On
+    /// error `x` is left unchanged and the message says why (reported through the FMI logger).
+    pub fn advance(&mut self, known: &[f64], motion: &InputMotion, t0: f64, x: &mut [f64], t1: f64) -> Result<(), String> {
+        let p = parameters(known, motion);
         if x.is_empty() {
             return Ok(());
         }
@@ -119,17 +152,17 @@ impl Integrator {
         // solver's stop time; one explicit Euler step is exact to O(h^2) there.
         if t1 - t0 <= 8.0 * f64::EPSILON * t0.abs().max(1.0) {
             let mut dx = vec![0.0; x.len()];
-            (self.rhs)(x, known, t0, &mut dx);
+            (self.rhs)(x, &p, t0, &mut dx);
             for (xi, d) in x.iter_mut().zip(&dx) {
                 *xi += (t1 - t0) * d;
             }
             return check_finite(x, t1);
         }
         let ctx = *self.problem.context();
-        self.problem.eqn_mut().set_params(&Vect::from_slice(known, ctx));
+        self.problem.eqn_mut().set_params(&Vect::from_slice(&p, ctx));
         let y = Vect::from_slice(x, ctx);
         let mut dx = vec![0.0; x.len()];
-        (self.rhs)(x, known, t0, &mut dx);
+        (self.rhs)(x, &p, t0, &mut dx);
         let dy = Vect::from_vec(dx, ctx);
         let empty = || Vect::zeros(0, ctx);
         let mut state = RkState::new_from_common(StateCommon {

@@ -13,7 +13,7 @@ use crate::lifecycle::Mode;
 use crate::values::Values;
 
 pub const MAGIC: &[u8; 8] = b"FMURSST\0";
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 
 /// The experiment set by fmi2SetupExperiment.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -39,6 +39,9 @@ pub struct Snapshot {
     pub states: Vec<f64>,
     /// The solver's step size at this point (None before the first step).
     pub step_size: Option<f64>,
+    /// Input derivatives set for the next step (by known index).
+    pub input_slopes: Vec<f64>,
+    pub input_curvatures: Vec<f64>,
 }
 
 /// FNV-1a, 64 bit. Any change of a single byte changes the hash (each step is a bijection).
@@ -139,6 +142,8 @@ impl Snapshot {
         w.reals(&self.values.calculated);
         w.reals(&self.values.derivatives);
         w.reals(&self.states);
+        w.reals(&self.input_slopes);
+        w.reals(&self.input_curvatures);
         w.u32(self.values.integers.len() as u32);
         self.values.integers.iter().for_each(|i| w.u32(*i as u32));
         w.u32(self.values.booleans.len() as u32);
@@ -185,6 +190,8 @@ impl Snapshot {
         let calculated = r.reals("calculated reals", shape.calculated)?;
         let derivatives = r.reals("derivatives", shape.states)?;
         let states = r.reals("states", shape.states)?;
+        let input_slopes = r.reals("input slopes", shape.known)?;
+        let input_curvatures = r.reals("input curvatures", shape.known)?;
         let n_int = r.u32()? as usize;
         if n_int != shape.integers {
             return Err(format!("the serialized FMU state has {n_int} integers, this FMU has {}", shape.integers));
@@ -205,6 +212,8 @@ impl Snapshot {
             values: Values { known, calculated, derivatives, integers, booleans },
             states,
             step_size,
+            input_slopes,
+            input_curvatures,
         })
     }
 }
@@ -292,6 +301,8 @@ mod tests {
             },
             states: vec![4.0],
             step_size: Some(1e-5),
+            input_slopes: vec![0.0, 0.5, 0.0],
+            input_curvatures: vec![0.0, 0.0, -1.0],
         }
     }
 

@@ -106,8 +106,8 @@ def test_model_description_capabilities(rlc_fmu):
     assert cs.canGetAndSetFMUstate
     assert cs.canSerializeFMUstate
     assert cs.canNotUseMemoryManagementFunctions
-    assert not cs.canInterpolateInputs
-    assert int(cs.maxOutputDerivativeOrder or 0) == 0
+    assert cs.canInterpolateInputs
+    assert int(cs.maxOutputDerivativeOrder or 0) == 1
     assert cs.providesDirectionalDerivative
     de = md.defaultExperiment
     assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, 0.1, 1e-4)
@@ -351,9 +351,39 @@ def test_directional_derivative_of_the_source(rlc_fmu):
         assert out[1] == pytest.approx(1.0 / 11.0, rel=1e-9)
 
 
+def test_input_and_output_derivatives(rlc_fmu):
+    # reference: u_source = U sin(2 pi f t) + u_in, so with the input ramping at du_in/dt = s over
+    # the next step, d(u_source)/dt = U 2 pi f cos(2 pi f t) + s at a communication point, and the
+    # input's ramp moves the circuit like the held input plus a ramp would (linearity): after one
+    # step h, i_high_frequency(ramped) - i_high_frequency(held) = integral of the R-L response to
+    # s t: (s / R)(h - tau (1 - e^{-h/tau})), tau = L/R.
+    import math
+    from ctypes import c_double, c_int, c_uint
+
+    U, f, R, L, s_rate, h, t = 10.0, 50.0, 1.0, 0.01, 40.0, 1e-3, 2e-3
+
+    def step_with(slope):
+        with Slave(rlc_fmu) as s:
+            s.instantiate()
+            s.initialize()
+            s.do_step(0.0, t)
+            vr_in, order, value = (c_uint * 1)(s.vr["u_in"]), (c_int * 1)(1), (c_double * 1)(slope)
+            if slope:
+                s.fmu.fmi2SetRealInputDerivatives(s.fmu.component, vr_in, 1, order, value)
+                vr_out, d = (c_uint * 1)(s.vr["u_source"]), (c_double * 1)()
+                s.fmu.fmi2GetRealOutputDerivatives(s.fmu.component, vr_out, 1, order, d)
+                assert d[0] == pytest.approx(U * 2 * math.pi * f * math.cos(2 * math.pi * f * t) + slope, rel=1e-6)
+            s.do_step(t, h)
+            return s.get("i_high_frequency")[0]
+
+    tau = L / R
+    expected = (s_rate / R) * (h - tau * (1 - math.exp(-h / tau)))
+    assert step_with(s_rate) - step_with(0.0) == pytest.approx(expected, rel=1e-5)
+
+
 def test_unsupported_capabilities_return_error(rlc_fmu):
-    # reference: spec, canInterpolateInputs false and maxOutputDerivativeOrder 0: "those
-    # functions return fmi2Error with a logger message"
+    # reference: spec, derivative orders beyond those offered (input derivatives of order 1 and
+    # 2, maxOutputDerivativeOrder 1): "those functions return fmi2Error with a logger message"
     from ctypes import c_double, c_int, c_uint
 
     with Slave(rlc_fmu) as s:
@@ -361,7 +391,7 @@ def test_unsupported_capabilities_return_error(rlc_fmu):
         s.initialize()
         vr_out = (c_uint * 1)(s.vr["i_absorbed"])
         vr_in = (c_uint * 1)(s.vr["u_in"])
-        order = (c_int * 1)(1)
+        order = (c_int * 1)(3)
         value = (c_double * 1)(1.0)
         calls = {
             "fmi2SetRealInputDerivatives": lambda: s.fmu.fmi2SetRealInputDerivatives(

@@ -671,11 +671,11 @@ fn model_description_matches_the_spec() {
                 "canNotUseMemoryManagementFunctions is not true".into(),
             );
             check(
-                !cs.can_interpolate_inputs,
-                "canInterpolateInputs is true".into(),
+                cs.can_interpolate_inputs,
+                "canInterpolateInputs is not true".into(),
             );
             check(
-                cs.max_output_derivative_order == 0,
+                cs.max_output_derivative_order == 1,
                 format!(
                     "maxOutputDerivativeOrder is {}",
                     cs.max_output_derivative_order
@@ -1377,19 +1377,19 @@ const MISUSES: &[Misuse] = &[
         },
     },
     Misuse {
-        name: "fmi2GetRealOutputDerivatives (maxOutputDerivativeOrder = 0)",
+        name: "fmi2GetRealOutputDerivatives of order 2 (maxOutputDerivativeOrder = 1)",
         phase: StepMode,
         call: |c| {
             Ok(c.inst
-                .get_real_output_derivatives(&[c.vrs.outputs[1]], &[1], &mut [0.0]))
+                .get_real_output_derivatives(&[c.vrs.outputs[1]], &[2], &mut [0.0]))
         },
     },
     Misuse {
-        name: "fmi2SetRealInputDerivatives (canInterpolateInputs = false)",
+        name: "fmi2SetRealInputDerivatives of a parameter (not an input)",
         phase: StepMode,
         call: |c| {
             Ok(c.inst
-                .set_real_input_derivatives(&[c.vrs.u_in], &[1], &[0.0]))
+                .set_real_input_derivatives(&[c.vrs.r_series], &[1], &[0.0]))
         },
     },
     Misuse {

@@ -159,12 +159,12 @@ macro_rules! export_fmu {
                 f::get_directional_derivative::<M>(c, unknowns, n_unknowns, knowns, n_knowns, dv_known, dv_unknown)
             }
             #[no_mangle]
-            pub unsafe extern "C" fn fmi2SetRealInputDerivatives(c: fmi2Component, _vr: *const fmi2ValueReference, _n: usize, _order: *const fmi2Integer, _v: *const fmi2Real) -> fmi2Status {
-                f::set_real_input_derivatives::<M>(c)
+            pub unsafe extern "C" fn fmi2SetRealInputDerivatives(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, order: *const fmi2Integer, v: *const fmi2Real) -> fmi2Status {
+                f::set_real_input_derivatives::<M>(c, vr, n, order, v)
             }
             #[no_mangle]
-            pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(c: fmi2Component, _vr: *const fmi2ValueReference, _n: usize, _order: *const fmi2Integer, _v: *mut fmi2Real) -> fmi2Status {
-                f::get_real_output_derivatives::<M>(c)
+            pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, order: *const fmi2Integer, v: *mut fmi2Real) -> fmi2Status {
+                f::get_real_output_derivatives::<M>(c, vr, n, order, v)
             }
             #[no_mangle]
             pub unsafe extern "C" fn fmi2DoStep(c: fmi2Component, t: fmi2Real, h: fmi2Real, no_prior: fmi2Boolean) -> fmi2Status {

@@ -402,15 +402,33 @@ pub unsafe fn get_directional_derivative<M: Model>(
     })
 }
 
-pub unsafe fn set_real_input_derivatives<M: Model>(c: fmi2Component) -> fmi2Status {
-    with::<M>(c, Function::SetRealInputDerivatives, "fmi2SetRealInputDerivatives", |_| {
-        Err(Failure::error("not supported by this FMU (canInterpolateInputs = false): inputs are held constant over a step"))
+pub unsafe fn set_real_input_derivatives<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    order: *const fmi2Integer,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    with::<M>(c, Function::SetRealInputDerivatives, "fmi2SetRealInputDerivatives", |comp| {
+        let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        let orders = slice(order, n).ok_or_else(|| null("the order array"))?;
+        let values = slice(value, n).ok_or_else(|| null("the value array"))?;
+        comp.instance.set_input_derivatives(vrs, orders, values)
     })
 }
 
-pub unsafe fn get_real_output_derivatives<M: Model>(c: fmi2Component) -> fmi2Status {
-    with::<M>(c, Function::GetRealOutputDerivatives, "fmi2GetRealOutputDerivatives", |_| {
-        Err(Failure::error("not supported by this FMU (maxOutputDerivativeOrder = 0)"))
+pub unsafe fn get_real_output_derivatives<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    order: *const fmi2Integer,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    with::<M>(c, Function::GetRealOutputDerivatives, "fmi2GetRealOutputDerivatives", |comp| {
+        let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        let orders = slice(order, n).ok_or_else(|| null("the order array"))?;
+        let out = slice_mut(value, n).ok_or_else(|| null("the value array"))?;
+        comp.instance.output_derivatives(vrs, orders, out)
     })
 }
 
