@@ -336,7 +336,8 @@ def test_invalid_parameter_rejected(rlc_fmu, name, bad):
 def test_directional_derivative_of_the_source(rlc_fmu):
     # reference: u_source = U sin(2 pi f t) + u_in and i_low_frequency = u / (R_series + R_load),
     # so d(u_source)/d(u_in) = 1 and d(i_low_frequency)/d(u_in) = 1/(1 + 10) with the defaults;
-    # both are linear, so central differences are exact up to rounding.
+    # both are linear, so the FMU's central differences (a 1e-7 relative step) are exact up to
+    # rounding, ~1e-9 relative.
     from ctypes import c_double, c_uint
 
     with Slave(rlc_fmu) as s:
@@ -347,8 +348,8 @@ def test_directional_derivative_of_the_source(rlc_fmu):
         knowns = (c_uint * 1)(s.vr["u_in"])
         seed, out = (c_double * 1)(1.0), (c_double * 2)()
         s.fmu.fmi2GetDirectionalDerivative(s.fmu.component, unknowns, 2, knowns, 1, seed, out)
-        assert out[0] == pytest.approx(1.0, rel=1e-9)
-        assert out[1] == pytest.approx(1.0 / 11.0, rel=1e-9)
+        assert out[0] == pytest.approx(1.0, rel=1e-8)
+        assert out[1] == pytest.approx(1.0 / 11.0, rel=1e-8)
 
 
 def test_input_and_output_derivatives(rlc_fmu):

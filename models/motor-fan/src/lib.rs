@@ -27,7 +27,8 @@
 //!   inertia has its poles near 2.5 Hz, above the shaft resonance), torque limit 2500 N m.
 
 use components::activity::{activity_rate, shares_percent};
-use components::{FanLoad, Fluxes, InductionMachine, Inertia, PiController, Reducer, SecondOrderFilter, SpeedRamp, TorsionSpring};
+use components::{FanLoad, Fluxes, InductionMachine, Inertia, PiController, Reducer, TorsionSpring};
+use drive_train::{converter_fed, ControllerParameters, FanParameters, MotorParameters, SetPoint, ShaftParameters};
 use fmu_runtime::prelude::*;
 
 mod documentation;
@@ -52,31 +53,11 @@ enum Start {
 pub struct MotorFan {
     level: IntegerParameter,
     start_mode: IntegerParameter,
-    setpoint_filter: IntegerParameter,
     keep_shaft_stiffness: BooleanParameter,
-    j_motor: Parameter,
-    j_fan: Parameter,
-    gear_ratio: Parameter,
-    gear_efficiency: Parameter,
-    k_shaft: Parameter,
-    d_shaft: Parameter,
-    k_fan: Parameter,
-    r_s: Parameter,
-    r_r: Parameter,
-    l_s_sigma: Parameter,
-    l_r_sigma: Parameter,
-    l_m: Parameter,
-    pole_pairs: Parameter,
-    u_supply: Parameter,
-    f_supply: Parameter,
-    speed_setpoint: Parameter,
-    ramp_time: Parameter,
-    kp: Parameter,
-    ki: Parameter,
-    t_limit: Parameter,
-    filter_below: Parameter,
-    filter_above: Parameter,
-    filter_damping: Parameter,
+    motor: MotorParameters,
+    shaft: ShaftParameters,
+    fan: FanParameters,
+    control: ControllerParameters,
     w_motor: State,
     twist: State,
     w_fan: State,
@@ -115,7 +96,6 @@ struct Train {
     fan_inertia: Inertia,
     fan: FanLoad,
     controller: PiController,
-    ramp: SpeedRamp,
 }
 
 /// Everything the equations give at one instant; derivatives and outputs both read it.
@@ -131,8 +111,6 @@ struct Operating {
     motor_acceleration: f64,
     fan_acceleration: f64,
     twist_rate: f64,
-    reference_rate: f64,
-    reference_acceleration: f64,
     integral_rate: f64,
     flux_rates: Fluxes,
     power_motor_inertia: f64,
@@ -160,37 +138,19 @@ impl MotorFan {
 
     fn train(&self, k: &Knowns) -> Train {
         Train {
-            motor: InductionMachine {
-                stator_resistance_ohm: k[self.r_s],
-                rotor_resistance_ohm: k[self.r_r],
-                stator_leakage_h: k[self.l_s_sigma],
-                rotor_leakage_h: k[self.l_r_sigma],
-                magnetizing_h: k[self.l_m],
-                pole_pairs: k[self.pole_pairs],
-                line_voltage_rms_v: k[self.u_supply],
-                frequency_hz: k[self.f_supply],
-            },
-            motor_inertia: Inertia { inertia_kg_m2: k[self.j_motor] },
-            shaft: TorsionSpring { stiffness_n_m_per_rad: k[self.k_shaft], damping_n_m_s_per_rad: k[self.d_shaft] },
-            reducer: Reducer { ratio: k[self.gear_ratio], efficiency: k[self.gear_efficiency] },
-            fan_inertia: Inertia { inertia_kg_m2: k[self.j_fan] },
-            fan: FanLoad { coefficient_n_m_s2_per_rad2: k[self.k_fan] },
-            controller: PiController { proportional_gain: k[self.kp], integral_gain: k[self.ki], output_limit: k[self.t_limit] },
-            ramp: SpeedRamp { target: k[self.speed_setpoint], duration_s: k[self.ramp_time] },
+            motor: self.motor.machine(k),
+            motor_inertia: self.motor.rotor(k),
+            shaft: self.shaft.spring(k),
+            reducer: self.fan.reducer(k),
+            fan_inertia: self.fan.inertia(k),
+            fan: self.fan.load(k),
+            controller: self.control.controller(k),
         }
     }
 
-    /// The speed set point after the optional filter: (w_ref, dw_ref/dt, d2w_ref/dt2).
-    fn reference(&self, k: &Knowns, train: &Train) -> (f64, f64, f64) {
-        let t = k.time();
-        let natural_frequency = match k[self.setpoint_filter] {
-            0 => return (train.ramp.value(t), train.ramp.slope(t), 0.0),
-            1 => k[self.filter_below],
-            _ => k[self.filter_above],
-        };
-        let filter = SecondOrderFilter { natural_frequency_hz: natural_frequency, damping: k[self.filter_damping] };
-        let (y, y_rate) = (k[self.reference], k[self.reference_rate]);
-        (y, y_rate, filter.acceleration(train.ramp.value(t), y, y_rate))
+    /// The speed set point after the optional filter.
+    fn reference(&self, k: &Knowns) -> SetPoint {
+        SetPoint::at(&self.control, k, k[self.reference], k[self.reference_rate])
     }
 
     fn fluxes(&self, k: &Knowns) -> Fluxes {
@@ -202,8 +162,9 @@ impl MotorFan {
     fn operate(&self, k: &Knowns, with_electrical: bool) -> Operating {
         let train = self.train(k);
         let (level, start) = (self.level(k), self.start(k));
-        let (reference, reference_rate, reference_acceleration) = self.reference(k, &train);
-        let mut op = Operating { reference, reference_rate, reference_acceleration, ..Operating::default() };
+        let set_point = self.reference(k);
+        let (reference, reference_rate) = (set_point.reference, set_point.rate);
+        let mut op = Operating { reference, ..Operating::default() };
         if level == Level::QuasiStatic {
             self.quasi_static(&train, start, &mut op);
             return op;
@@ -296,13 +257,8 @@ impl MotorFan {
         }
     }
 
-    /// A converter-fed motor (controlled starts): the power it draws is the mechanical power
-    /// (an ideal converter and machine), its current that of the machine at rated flux
-    /// (constant V/f) giving that torque: the 50 Hz circuit at the slip of that torque.
     fn converter_fed(&self, train: &Train, torque: f64, speed: f64, op: &mut Operating) {
-        let slip = train.motor.stable_slip_for_torque(torque);
-        op.current_rms = train.motor.steady_state_at_slip(slip).stator_current_rms_a;
-        op.electrical_power = torque * speed;
+        (op.current_rms, op.electrical_power) = converter_fed(&train.motor, torque, speed);
     }
 }
 
@@ -333,31 +289,11 @@ impl Model for MotorFan {
         MotorFan {
             level: d.integer_parameter("level", 3).range(1, 4).describe("Modelling level (Figure 3.5): 1 = a quasi-static, 2 = b + inertias, 3 = c + driveshaft elasticity, 4 = d + electrical dynamics"),
             start_mode: d.integer_parameter("start_mode", 1).range(1, 3).describe("1 = direct on line, 2 = PI speed control, 3 = inverse simulation (imposed speed), Figure 3.7"),
-            setpoint_filter: d.integer_parameter("setpoint_filter", 0).range(0, 2).describe("Second-order set-point filter (Figure 3.13): 0 = off, 1 = filter_frequency_below, 2 = filter_frequency_above"),
             keep_shaft_stiffness: d.boolean_parameter("keep_shaft_stiffness", true).describe("false: rigid driveshaft at levels c and d (the reduced model of Figure 3.10)"),
-            j_motor: d.parameter("J_motor", 1.72, "kg.m2").positive().tunable().describe("Motor rotor inertia (chapter 3.3.3)"),
-            j_fan: d.parameter("J_fan", 1172.0, "kg.m2").positive().tunable().describe("Fan inertia on the low-speed side: 11.72 kg m2 x N^2 (eqs. 3.4-3.7)"),
-            gear_ratio: d.parameter("gear_ratio", 10.0, "1").positive().tunable().describe("Reducer ratio N = motor speed / fan speed (chosen)"),
-            gear_efficiency: d.parameter("gear_efficiency", 0.97, "1").positive().max(1.0).tunable().describe("Reducer efficiency on the power it transmits (chosen, one gear stage)"),
-            k_shaft: d.parameter("K_shaft", 906.85, "N.m/rad").positive().tunable().describe("Driveshaft torsional stiffness: 11.72 (2 pi 1.4 Hz)^2 (eq. 3.8)"),
-            d_shaft: d.parameter("D_shaft", 5.0, "N.m.s/rad").min(0.0).tunable().describe("Driveshaft internal damping (chosen: 2.4 % of critical for the 1.4 Hz mode)"),
-            k_fan: d.parameter("k_fan", 42.9, "N.m.s2/rad2").min(0.0).tunable().describe("Fan aerodynamic torque coefficient, T = k w_fan^2 (chosen: rated torque at rated speed)"),
-            r_s: d.parameter("R_s", 0.012, "Ohm").positive().tunable().describe("Stator resistance per phase (chosen, 160 kW 400 V motor)"),
-            r_r: d.parameter("R_r", 0.020, "Ohm").positive().tunable().describe("Rotor resistance per phase, referred to the stator (chosen)"),
-            l_s_sigma: d.parameter("L_s_sigma", 2.5e-4, "H").positive().tunable().describe("Stator leakage inductance (chosen)"),
-            l_r_sigma: d.parameter("L_r_sigma", 2.5e-4, "H").positive().tunable().describe("Rotor leakage inductance, referred to the stator (chosen)"),
-            l_m: d.parameter("L_m", 0.01, "H").positive().tunable().describe("Magnetising inductance (chosen)"),
-            pole_pairs: d.parameter("pole_pairs", 2.0, "1").positive().describe("Pole pairs: 2 gives 1500 rpm synchronous speed at 50 Hz (chosen)"),
-            u_supply: d.parameter("U_supply", 400.0, "V").min(0.0).tunable().describe("Supply voltage, line to line, rms (chosen)"),
-            f_supply: d.parameter("f_supply", 50.0, "Hz").positive().tunable().describe("Supply frequency (chapter: 50 Hz network)"),
-            speed_setpoint: d.parameter("speed_setpoint", 153.5, "rad/s").min(0.0).tunable().describe("Final motor speed of the variable-speed start (near the direct-on-line equilibrium)"),
-            ramp_time: d.parameter("ramp_time", 10.0, "s").min(0.0).tunable().describe("Duration of the set-point ramp, 0 = a step (chapter: 10 s)"),
-            kp: d.parameter("Kp_speed", 200.0, "N.m.s/rad").min(0.0).tunable().describe("PI speed controller proportional gain (chosen)"),
-            ki: d.parameter("Ki_speed", 2000.0, "N.m/rad").min(0.0).tunable().describe("PI speed controller integral gain (chosen)"),
-            t_limit: d.parameter("T_limit", 2500.0, "N.m").positive().tunable().describe("Torque limit of the converter-fed motor (chosen, ~2.4x rated)"),
-            filter_below: d.parameter("filter_frequency_below", 0.5, "Hz").positive().tunable().describe("Set-point filter natural frequency below the 1.4 Hz resonance (Figure 3.13)"),
-            filter_above: d.parameter("filter_frequency_above", 5.0, "Hz").positive().tunable().describe("Set-point filter natural frequency above the 1.4 Hz resonance (Figure 3.13)"),
-            filter_damping: d.parameter("filter_damping", 0.7, "1").positive().tunable().describe("Set-point filter damping ratio"),
+            motor: MotorParameters::declare(d),
+            shaft: ShaftParameters::declare(d),
+            fan: FanParameters::declare(d),
+            control: ControllerParameters::declare(d),
             w_motor: d.state("w_motor", 0.0, "rad/s").nominal(100.0).describe("Motor speed (frozen at level a)"),
             twist: d.state("shaft_twist", 0.0, "rad").describe("Driveshaft twist (frozen unless the shaft is elastic)"),
             w_fan: d.state("w_fan", 0.0, "rad/s").nominal(10.0).describe("Fan speed, low-speed side (follows w_motor/N when the shaft is rigid)"),
@@ -389,7 +325,7 @@ impl Model for MotorFan {
     }
 
     fn check(&self, k: &Knowns) -> Result<(), String> {
-        if self.start(k) == Start::InverseSimulation && k[self.ramp_time] == 0.0 && k[self.setpoint_filter] == 0 {
+        if self.start(k) == Start::InverseSimulation && self.control.ramp_time(k) == 0.0 && self.control.filter(k).is_none() {
             return Err("inverse simulation imposes the motor speed, so the set point must have a finite acceleration: \
                         set ramp_time > 0 or a setpoint_filter"
                 .into());
@@ -402,14 +338,14 @@ impl Model for MotorFan {
         if self.start(k) == Start::DirectOnLine {
             return None;
         }
-        SpeedRamp { target: k[self.speed_setpoint], duration_s: k[self.ramp_time] }.next_kink(after)
+        self.control.ramp(k).next_kink(after)
     }
 
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
-        if k[self.setpoint_filter] != 0 {
-            let (_, rate, acceleration) = self.reference(k, &self.train(k));
-            der[self.reference] = rate;
-            der[self.reference_rate] = acceleration;
+        if self.control.filter(k).is_some() {
+            let set_point = self.reference(k);
+            der[self.reference] = set_point.rate;
+            der[self.reference_rate] = set_point.acceleration;
         }
         if self.level(k) == Level::QuasiStatic {
             return;
@@ -445,7 +381,7 @@ impl Model for MotorFan {
         out[self.y_share_motor] = m;
         out[self.y_share_shaft] = s;
         out[self.y_share_fan] = f;
-        out[self.j_equivalent] = k[self.j_fan] / (k[self.gear_ratio] * k[self.gear_ratio]);
+        out[self.j_equivalent] = self.fan.referred_inertia_kg_m2(k);
     }
 }
 

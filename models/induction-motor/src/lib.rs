@@ -1,0 +1,134 @@
+//! InductionMotor: the motor-fan's motor as an FMU of its own (docs/motor-fan-system-spec.md).
+//! Torque in (the shaft's load torque), speed and angle out: J dw/dt = T_m - T_load. The
+//! electromagnetic torque comes from the steady-state equivalent circuit (MotorFan levels b-c),
+//! the dq model (`electrical_dynamics`, level d), or a converter's torque command (`drive` = 2).
+//! Coupling expected: `speed` -> DriveShaft.speed_a, DriveShaft.torque -> `load_torque`;
+//! with a converter, SpeedController.torque_command -> `torque_command`.
+
+use components::activity::activity_rate;
+use components::Fluxes;
+use drive_train::{converter_fed, MotorParameters};
+use fmu_runtime::prelude::*;
+
+pub struct InductionMotor {
+    drive: IntegerParameter,
+    electrical_dynamics: BooleanParameter,
+    motor: MotorParameters,
+    load_torque: Input,
+    torque_command: Input,
+    w: State,
+    angle: State,
+    psi_sd: State,
+    psi_sq: State,
+    psi_rd: State,
+    psi_rq: State,
+    activity: State,
+    y_speed: Output,
+    y_angle: Output,
+    y_torque: Output,
+    y_current: Output,
+    y_power: Output,
+    y_activity: Output,
+}
+
+/// The motor at one instant.
+struct Operating {
+    torque: f64,
+    current_rms: f64,
+    power: f64,
+    flux_rates: Fluxes,
+}
+
+impl InductionMotor {
+    fn fluxes(&self, k: &Knowns) -> Fluxes {
+        Fluxes { stator_d: k[self.psi_sd], stator_q: k[self.psi_sq], rotor_d: k[self.psi_rd], rotor_q: k[self.psi_rq] }
+    }
+
+    fn operate(&self, k: &Knowns, with_electrical: bool) -> Operating {
+        let machine = self.motor.machine(k);
+        let w = k[self.w];
+        if k[self.drive] == 2 {
+            let torque = k[self.torque_command];
+            let (current_rms, power) = if with_electrical { converter_fed(&machine, torque, w) } else { (0.0, 0.0) };
+            return Operating { torque, current_rms, power, flux_rates: Fluxes::default() };
+        }
+        if k[self.electrical_dynamics] {
+            let dq = machine.dq_response(self.fluxes(k), w);
+            return Operating { torque: dq.torque_n_m, current_rms: dq.stator_current_rms_a, power: dq.electrical_power_w, flux_rates: dq.flux_rates };
+        }
+        let st = machine.steady_state(w);
+        Operating { torque: st.torque_n_m, current_rms: st.stator_current_rms_a, power: st.electrical_power_w, flux_rates: Fluxes::default() }
+    }
+}
+
+const DOCUMENTATION: &str = r#"
+<p>The induction motor of the cooling-tower fan (chapter 3, sections 3.1-3.3) as a subsystem: rotor inertia
+J_motor dw/dt = T_m - load_torque, with T_m from the steady-state T-equivalent circuit, from the dq model
+(<code>electrical_dynamics</code> = true: stator and rotor fluxes in the synchronous frame), or, with
+<code>drive</code> = 2, from a converter that follows <code>torque_command</code>.</p>
+<p>Coupling: torque in, speed out. Connect <code>speed</code> to DriveShaft.speed_a and DriveShaft.torque to
+<code>load_torque</code>; with a converter, SpeedController.torque_command to <code>torque_command</code>.
+The speed is a state: it does not depend directly on any input, so no algebraic loop forms.
+Input derivatives and first output derivatives are supported for extrapolating masters.</p>
+"#;
+
+impl Model for InductionMotor {
+    fn info() -> ModelInfo {
+        ModelInfo {
+            name: "InductionMotor",
+            description: "Induction motor with rotor inertia, torque in / speed out: the motor of the cooling-tower fan (chapter 3, Figure 3.2) as a co-simulation subsystem",
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 5.0, step_size: 1e-3 },
+            solver: Solver::ExplicitRungeKutta,
+            documentation: DOCUMENTATION,
+        }
+    }
+
+    fn declare(d: &mut Declarations) -> Self {
+        InductionMotor {
+            drive: d.integer_parameter("drive", 1).range(1, 2).describe("1 = direct on line (torque from the machine), 2 = converter (torque = torque_command)"),
+            electrical_dynamics: d.boolean_parameter("electrical_dynamics", false).describe("true: the dq model with stator and rotor fluxes (MotorFan level d) instead of the steady-state curve"),
+            motor: MotorParameters::declare(d),
+            load_torque: d.input("load_torque", 0.0, "N.m").describe("Torque the driveshaft exerts on the rotor (connect DriveShaft.torque)"),
+            torque_command: d.input("torque_command", 0.0, "N.m").describe("Converter torque command, used when drive = 2 (connect SpeedController.torque_command)"),
+            w: d.state("w_motor", 0.0, "rad/s").nominal(100.0).describe("Rotor speed"),
+            angle: d.state("phi_motor", 0.0, "rad").nominal(100.0).describe("Rotor angle"),
+            psi_sd: d.state("psi_sd", 0.0, "Wb").describe("Stator flux, d axis (electrical_dynamics; frozen otherwise)"),
+            psi_sq: d.state("psi_sq", 0.0, "Wb").describe("Stator flux, q axis (electrical_dynamics; frozen otherwise)"),
+            psi_rd: d.state("psi_rd", 0.0, "Wb").describe("Rotor flux, d axis (electrical_dynamics; frozen otherwise)"),
+            psi_rq: d.state("psi_rq", 0.0, "Wb").describe("Rotor flux, q axis (electrical_dynamics; frozen otherwise)"),
+            activity: d.state("A_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the rotor inertia (eq. 3.3)"),
+            y_speed: d.output("speed", "rad/s").describe("Rotor speed"),
+            y_angle: d.output("angle", "rad").describe("Rotor angle"),
+            y_torque: d.output("motor_torque", "N.m").describe("Electromagnetic torque"),
+            y_current: d.output("stator_current_rms", "A").describe("Stator phase current, rms"),
+            y_power: d.output("electrical_power", "W").describe("Active power drawn (converter: mechanical power through an ideal converter)"),
+            y_activity: d.output("activity_inertia", "J").describe("Activity of the rotor inertia, integral of |J dw/dt w| (eq. 3.3)"),
+        }
+    }
+
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        let op = self.operate(k, false);
+        let rotor = self.motor.rotor(k);
+        let w = k[self.w];
+        let acceleration = rotor.acceleration_rad_per_s2(op.torque - k[self.load_torque]);
+        der[self.w] = acceleration;
+        der[self.angle] = w;
+        der[self.psi_sd] = op.flux_rates.stator_d;
+        der[self.psi_sq] = op.flux_rates.stator_q;
+        der[self.psi_rd] = op.flux_rates.rotor_d;
+        der[self.psi_rq] = op.flux_rates.rotor_q;
+        der[self.activity] = activity_rate(rotor.power_w(acceleration, w));
+    }
+
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        let op = self.operate(k, true);
+        out[self.y_speed] = k[self.w];
+        out[self.y_angle] = k[self.angle];
+        out[self.y_torque] = op.torque;
+        out[self.y_current] = op.current_rms;
+        out[self.y_power] = op.power;
+        out[self.y_activity] = k[self.activity];
+    }
+}
+
+fmu_runtime::export_fmu!(InductionMotor);

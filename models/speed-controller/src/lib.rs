@@ -1,0 +1,76 @@
+//! SpeedController: the variable-speed start's set point and PI controller as an FMU of its own
+//! (docs/motor-fan-system-spec.md). Measured speed in, torque command out.
+//! Coupling expected: InductionMotor.speed -> `measured_speed`, `torque_command` ->
+//! InductionMotor.torque_command (with InductionMotor.drive = 2).
+
+use drive_train::{ControllerParameters, SetPoint};
+use fmu_runtime::prelude::*;
+
+pub struct SpeedController {
+    control: ControllerParameters,
+    measured_speed: Input,
+    integral: State,
+    filtered: State,
+    filtered_rate: State,
+    y_torque_command: Output,
+    y_reference: Output,
+}
+
+const DOCUMENTATION: &str = r#"
+<p>The speed control of the variable-speed start (chapter 3, section 3.3.2, Figures 3.7 and 3.13) as a subsystem:
+a set point ramping from 0 to speed_setpoint in ramp_time, optionally through a second-order filter, and a PI
+controller with a torque limit and anti-windup: torque_command = clamp(Kp e + Ki integral(e)), e = w_ref - measured_speed.</p>
+<p>Coupling: speed in, torque out (direct feedthrough through Kp). The motor it drives takes torque in and gives its
+speed as a state, so no algebraic loop forms. The ramp's corners are announced as time events.</p>
+"#;
+
+impl SpeedController {
+    fn set_point(&self, k: &Knowns) -> SetPoint {
+        SetPoint::at(&self.control, k, k[self.filtered], k[self.filtered_rate])
+    }
+}
+
+impl Model for SpeedController {
+    fn info() -> ModelInfo {
+        ModelInfo {
+            name: "SpeedController",
+            description: "Speed set-point ramp, second-order filter and PI speed controller with torque limit: the variable-speed start of the cooling-tower fan (chapter 3, Figure 3.7) as a co-simulation subsystem",
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 15.0, step_size: 1e-3 },
+            solver: Solver::ExplicitRungeKutta,
+            documentation: DOCUMENTATION,
+        }
+    }
+
+    fn declare(d: &mut Declarations) -> Self {
+        SpeedController {
+            control: ControllerParameters::declare(d),
+            measured_speed: d.input("measured_speed", 0.0, "rad/s").describe("Measured motor speed (connect InductionMotor.speed)"),
+            integral: d.state("pi_integral", 0.0, "rad").nominal(10.0).describe("Integral of the speed error"),
+            filtered: d.state("reference_filtered", 0.0, "rad/s").nominal(100.0).describe("Filtered speed set point (filter on; frozen otherwise)"),
+            filtered_rate: d.state("reference_filtered_rate", 0.0, "rad/s2").nominal(10.0).describe("Rate of the filtered speed set point"),
+            y_torque_command: d.output("torque_command", "N.m").describe("Torque command, clamped to +/- T_limit"),
+            y_reference: d.output("speed_reference", "rad/s").describe("Speed set point after the filter"),
+        }
+    }
+
+    fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
+        self.control.ramp(k).next_kink(after)
+    }
+
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        let sp = self.set_point(k);
+        if self.control.filter(k).is_some() {
+            der[self.filtered] = sp.rate;
+            der[self.filtered_rate] = sp.acceleration;
+        }
+        der[self.integral] = self.control.controller(k).integral_rate(sp.reference - k[self.measured_speed], k[self.integral]);
+    }
+
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        let sp = self.set_point(k);
+        out[self.y_torque_command] = self.control.controller(k).command(sp.reference - k[self.measured_speed], k[self.integral]);
+        out[self.y_reference] = sp.reference;
+    }
+}
+
+fmu_runtime::export_fmu!(SpeedController);
