@@ -396,7 +396,7 @@ def test_direct_on_line_peak_torque_grows_with_level(motor_fan_fmu):
 @pytest.mark.xfail(
     strict=True,
     reason="physics disagrees with the chapter (README, 'Where the physics disagrees'): direct-on-line peak "
-    "shaft torque level c 4160 N.m, level d 2633 N.m (-37 %), level b 2644 N.m. Level c's quasi-static "
+    "shaft torque level c 4167 N.m, level d 2633 N.m (-37 %), level b 2644 N.m. Level c's quasi-static "
     "torque-speed curve rises with speed below breakdown (negative damping) and the 3.9 Hz shaft mode grows "
     "during the run-up; in level d's dq model the torque lags speed changes through the rotor transient time "
     "constant and the mode does not grow. Strict: if the claim ever holds, this XPASS fails and the README "

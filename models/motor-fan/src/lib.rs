@@ -202,7 +202,9 @@ impl MotorFan {
         if elastic {
             op.twist_rate = w_m - n * w_fan;
             op.shaft_torque = train.shaft.torque_n_m(k[self.twist], op.twist_rate);
-            let low_torque = train.reducer.low_side_torque_n_m(op.shaft_torque, w_m);
+            // The power through the reducer is the shaft torque times the reducer's own input
+            // speed N w_fan (the motor side swings apart from it by the twist rate).
+            let low_torque = train.reducer.low_side_torque_n_m(op.shaft_torque, n * w_fan);
             op.fan_acceleration = train.fan_inertia.acceleration_rad_per_s2(low_torque - fan_torque);
             if start == Start::InverseSimulation {
                 op.motor_acceleration = reference_rate;
