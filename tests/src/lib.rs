@@ -24,7 +24,9 @@
 //! - [`state`]: FMU state get/set/free/serialize ([`FmuState`]);
 //! - [`logger`]: the logger callback and per-instance [`LogRecord`]s;
 //! - [`ffi`]: the raw C types and function table;
-//! - [`tempdir`]: the unique temporary directory an FMU is unpacked into.
+//! - [`tempdir`]: the unique temporary directory an FMU is unpacked into;
+//! - [`master`]: a co-simulation master (Jacobi / Gauss-Seidel, input extrapolation, step
+//!   rejection with FMU states) coupling several instances.
 //!
 //! Limitation: the logger callback is declared non-variadic (stable Rust cannot define a
 //! C-variadic function); see [`ffi::LoggerFn`].
@@ -34,6 +36,7 @@ pub mod ffi;
 pub mod fmu;
 pub mod instance;
 pub mod logger;
+pub mod master;
 pub mod model_description;
 pub mod state;
 pub mod tempdir;

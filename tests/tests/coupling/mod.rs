@@ -1,0 +1,207 @@
+//! The motor-fan start-up coupled from its subsystem FMUs (docs/motor-fan-system-spec.md) and
+//! compared with the monolithic `MotorFan.fmu` at level c. Shared by the acceptance test
+//! `tests/motor_fan_system.rs` and the example `examples/coupling_table.rs`.
+//!
+//! `FMU_DIST_DIR` overrides the folder holding the FMUs (default `<workspace>/dist`).
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use fmi_host::master::{Algorithm, Component, ErrorControl, Master, Outcome, System};
+use fmi_host::Fmu;
+
+/// Simulated time of the start-up, s (MotorFan's DefaultExperiment).
+pub const STOP_TIME: f64 = 30.0;
+
+pub fn dist_dir() -> PathBuf {
+    std::env::var_os("FMU_DIST_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("dist"))
+}
+
+pub fn load(model: &str) -> Arc<Fmu> {
+    let path = dist_dir().join(format!("{model}.fmu"));
+    Fmu::load(&path).unwrap_or_else(|e| {
+        panic!("{}: {e} (run `cargo run --release -p build-fmus` first)", path.display())
+    })
+}
+
+/// Which start-up is compared.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scenario {
+    /// MotorFan's start_mode: 1 = direct on line, 2 = PI speed control (adds the
+    /// SpeedController and sets InductionMotor.drive = 2).
+    pub start_mode: i32,
+    /// `gear_efficiency` set in both MotorFan and Fan; None: the default (0.97).
+    pub gear_efficiency: Option<f64>,
+}
+
+impl Scenario {
+    pub const DIRECT_ON_LINE: Scenario = Scenario { start_mode: 1, gear_efficiency: None };
+    pub const PI_START: Scenario = Scenario { start_mode: 2, gear_efficiency: None };
+}
+
+/// The four subsystem FMUs and the monolithic one, loaded once.
+pub struct Fmus {
+    pub motor: Arc<Fmu>,
+    pub shaft: Arc<Fmu>,
+    pub fan: Arc<Fmu>,
+    pub controller: Arc<Fmu>,
+    pub monolithic: Arc<Fmu>,
+}
+
+impl Fmus {
+    pub fn load() -> Fmus {
+        Fmus {
+            motor: load("InductionMotor"),
+            shaft: load("DriveShaft"),
+            fan: load("Fan"),
+            controller: load("SpeedController"),
+            monolithic: load("MotorFan"),
+        }
+    }
+
+    /// The coupled system (MotorFanSystem.ssp): motor, shaft, fan (and the controller), in
+    /// this order, which is the Gauss-Seidel order.
+    pub fn system(&self, scenario: Scenario) -> System {
+        let mut motor = Component::new("InductionMotor", &self.motor);
+        let mut fan = Component::new("Fan", &self.fan);
+        if let Some(eta) = scenario.gear_efficiency {
+            fan = fan.real("gear_efficiency", eta);
+        }
+        if scenario.start_mode == 2 {
+            motor = motor.integer("drive", 2);
+        }
+        let system = System::new()
+            .with(motor)
+            .with(Component::new("DriveShaft", &self.shaft))
+            .with(fan)
+            .connect("InductionMotor.speed", "DriveShaft.speed_a")
+            .connect("Fan.speed_high", "DriveShaft.speed_b")
+            .connect("DriveShaft.torque", "InductionMotor.load_torque")
+            .connect("DriveShaft.torque", "Fan.shaft_torque");
+        if scenario.start_mode == 2 {
+            system
+                .with(Component::new("SpeedController", &self.controller))
+                .connect("InductionMotor.speed", "SpeedController.measured_speed")
+                .connect("SpeedController.torque_command", "InductionMotor.torque_command")
+        } else {
+            system
+        }
+    }
+
+    /// The coupled start-up run with `setup` at communication step `h`: records fan speed and
+    /// shaft torque.
+    pub fn coupled(&self, scenario: Scenario, setup: &Setup, h: f64) -> Outcome {
+        let master = setup
+            .apply(Master::new(self.system(scenario), h, STOP_TIME))
+            .record(["Fan.fan_speed", "DriveShaft.torque", "InductionMotor.speed"]);
+        master.run().unwrap_or_else(|e| panic!("{}: {e}", setup.name))
+    }
+
+    /// MotorFan level c, sampled every `h`.
+    pub fn monolithic(&self, scenario: Scenario, h: f64) -> Outcome {
+        let mut motor_fan = Component::new("MotorFan", &self.monolithic)
+            .integer("level", 3)
+            .integer("start_mode", scenario.start_mode);
+        if let Some(eta) = scenario.gear_efficiency {
+            motor_fan = motor_fan.real("gear_efficiency", eta);
+        }
+        Master::new(System::new().with(motor_fan), h, STOP_TIME)
+            .record(["MotorFan.fan_speed", "MotorFan.shaft_torque", "MotorFan.motor_speed"])
+            .run()
+            .unwrap_or_else(|e| panic!("MotorFan: {e}"))
+    }
+}
+
+/// A way of running the master: algorithm and options.
+#[derive(Clone, Debug)]
+pub struct Setup {
+    pub name: String,
+    pub algorithm: Algorithm,
+    pub extrapolation: bool,
+    pub error_control: Option<ErrorControl>,
+}
+
+impl Setup {
+    fn apply(&self, master: Master) -> Master {
+        master
+            .algorithm(self.algorithm.clone())
+            .extrapolation(self.extrapolation)
+            .error_control(self.error_control)
+    }
+
+    /// Jacobi with the master's defaults (input extrapolation, no error control).
+    pub fn jacobi() -> Setup {
+        Setup { name: "Jacobi".into(), algorithm: Algorithm::Jacobi, extrapolation: true, error_control: None }
+    }
+
+    /// Gauss-Seidel in the order motor, shaft, fan (, controller), the master's defaults.
+    pub fn gauss_seidel() -> Setup {
+        Setup {
+            name: "Gauss-Seidel".into(),
+            algorithm: Algorithm::gauss_seidel(),
+            extrapolation: true,
+            error_control: None,
+        }
+    }
+
+    /// Inputs held constant over a step (no input derivatives).
+    pub fn held(mut self) -> Setup {
+        self.extrapolation = false;
+        self.name.push_str(", inputs held");
+        self
+    }
+
+    /// With step rejection at this tolerance.
+    pub fn error_control(mut self, tolerance: f64) -> Setup {
+        self.error_control = Some(ErrorControl::new(tolerance));
+        self.name.push_str(&format!(", error control {tolerance:e}"));
+        self
+    }
+}
+
+/// The acceptance figures of a coupled run against the monolithic one on the same grid.
+#[derive(Clone, Copy, Debug)]
+pub struct Figures {
+    /// Rated fan speed: the monolithic final fan speed, rad/s.
+    pub rated_fan_speed: f64,
+    /// Largest |fan speed difference| over every output point, % of the rated speed.
+    pub max_fan_speed_error_pct: f64,
+    /// Time of that largest difference, s.
+    pub max_fan_speed_error_time: f64,
+    /// Peak |shaft torque|, coupled and monolithic, N m.
+    pub peak_torque: f64,
+    pub peak_torque_monolithic: f64,
+    /// |peak - monolithic peak| / monolithic peak, %.
+    pub peak_torque_error_pct: f64,
+}
+
+pub fn compare(coupled: &Outcome, monolithic: &Outcome) -> Figures {
+    let t = coupled.results.time();
+    assert_eq!(t, monolithic.results.time(), "same output grid");
+    let w = coupled.results.column("Fan.fan_speed").unwrap();
+    let w_ref = monolithic.results.column("MotorFan.fan_speed").unwrap();
+    let rated = *w_ref.last().unwrap();
+    let (mut max_err, mut at) = (0.0f64, 0.0);
+    for ((a, b), time) in w.iter().zip(w_ref).zip(t) {
+        let e = (a - b).abs();
+        if e > max_err || e.is_nan() {
+            max_err = e;
+            at = *time;
+        }
+    }
+    let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let peak_torque = peak(coupled.results.column("DriveShaft.torque").unwrap());
+    let peak_torque_monolithic = peak(monolithic.results.column("MotorFan.shaft_torque").unwrap());
+    Figures {
+        rated_fan_speed: rated,
+        max_fan_speed_error_pct: 100.0 * max_err / rated,
+        max_fan_speed_error_time: at,
+        peak_torque,
+        peak_torque_monolithic,
+        peak_torque_error_pct: 100.0 * (peak_torque - peak_torque_monolithic).abs()
+            / peak_torque_monolithic,
+    }
+}
