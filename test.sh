@@ -18,6 +18,18 @@ if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
 .venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/requirements.txt
+# The external co-simulation masters (tests/python/test_coupled_masters.py): ecospy's native
+# library needs Debian's libtbb12, and its wheel ships the `ecos` and `proxyfmu` executables
+# without the executable bit. Both steps do nothing when already done.
+# (grep without -q: with pipefail, -q's early exit could fail ldconfig with SIGPIPE.)
+if ! ldconfig -p | grep 'libtbb\.so\.12' >/dev/null; then
+    if ! DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libtbb12; then
+        apt-get update
+        DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libtbb12
+    fi
+fi
+ecospy_binaries="$(.venv/bin/python -c 'import importlib.util, pathlib; print(pathlib.Path(importlib.util.find_spec("ecospy").origin).parent / "binaries")')"
+chmod +x "$ecospy_binaries/ecos" "$ecospy_binaries/proxyfmu"
 
 echo "== Python tests (fmpy, fmutool)"
 .venv/bin/python -m pytest -q tests/python

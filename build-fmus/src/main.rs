@@ -7,14 +7,20 @@
 //! 2. [`cargo`]: build all their libraries with one `cargo build --release --lib -p ...`;
 //! 3. [`extract`]: load each library and copy out its modelIdentifier, modelDescription.xml
 //!    and documentation page, which `fmu_runtime::export_fmu!` exports;
-//! 4. [`package`]: zip them with the library into a deterministic `.fmu`.
+//! 4. [`package`]: zip them with the library into a deterministic `.fmu`;
+//! 5. [`systems`] and [`ssp`]: for each system declared in `models/systems/<Name>.toml`,
+//!    check its components and connections against the FMUs' variables ([`interface`]) and
+//!    write `<Name>.ssp` (SSP 1.0: SystemStructure.ssd and the FMUs under resources/).
 //!
 //! Run it with `cargo run --release -p build-fmus` from anywhere in the workspace.
 
 mod cargo;
 mod discover;
 mod extract;
+mod interface;
 mod package;
+mod ssp;
+mod systems;
 
 use std::collections::BTreeMap;
 use std::ffi::OsString;
@@ -26,7 +32,8 @@ use std::time::Instant;
 use discover::ModelCrate;
 
 const USAGE: &str = "\
-build-fmus: builds every model crate and packages <out>/<ModelIdentifier>.fmu (FMI 2.0 CS)
+build-fmus: builds every model crate and packages <out>/<ModelIdentifier>.fmu (FMI 2.0 CS),
+then <out>/<System>.ssp for each system declared in models/systems/<System>.toml
 
 Usage: cargo run --release -p build-fmus [-- OPTIONS]
 
@@ -43,6 +50,11 @@ Model crates are the workspace members under models/ whose [lib] crate-type has
 $CARGO_TARGET_DIR are honoured); each library is then loaded to read its
 modelDescription.xml and documentation, and zipped with them into the FMU:
   modelDescription.xml, binaries/linux64/<ModelIdentifier>.so, documentation/index.html
+
+A system (models/systems/<System>.toml: components, connections \"a.y -> b.u\" from an
+output to an input, optional parameter values) is checked against the FMUs' variables and
+written as an SSP 1.0 archive: SystemStructure.ssd and resources/<ModelIdentifier>.fmu.
+With --only, a system is written only if all of its FMUs were selected.
 ";
 
 /// The parsed command line.
@@ -193,6 +205,7 @@ fn run(opts: &Options) -> Result<usize, String> {
     let mut written = 0;
     let mut unmatched = selection.by_identifier.clone();
     let mut identifiers: BTreeMap<String, String> = BTreeMap::new(); // identifier -> package
+    let mut descriptions: BTreeMap<String, String> = BTreeMap::new(); // packaged: identifier -> XML
     for model in &selection.build {
         let lib_path = cargo::library_path(&target_dir, &model.lib_name);
         let info = match extract::extract(&lib_path, &model.package) {
@@ -224,6 +237,7 @@ fn run(opts: &Options) -> Result<usize, String> {
         match package_one(&out_dir, &lib_path, &info) {
             Ok((path, size)) => {
                 written += 1;
+                descriptions.insert(info.identifier.clone(), info.description.clone());
                 println!(
                     "  {:<20}{}  ({} kB, {} variables)",
                     info.identifier,
@@ -247,9 +261,17 @@ fn run(opts: &Options) -> Result<usize, String> {
         );
         failed += unmatched.len();
     }
+    let (systems_written, systems_failed) =
+        package_systems(&root, &out_dir, &descriptions, !opts.only.is_empty());
+    failed += systems_failed;
     println!(
-        "Packaged {written} FMU{} into {} in {:.1} s{}",
+        "Packaged {written} FMU{}{} into {} in {:.1} s{}",
         if written == 1 { "" } else { "s" },
+        match systems_written {
+            0 => String::new(),
+            1 => " and 1 system".to_owned(),
+            n => format!(" and {n} systems"),
+        },
         shown(&out_dir),
         started.elapsed().as_secs_f64(),
         if failed > 0 {
@@ -259,6 +281,75 @@ fn run(opts: &Options) -> Result<usize, String> {
         }
     );
     Ok(failed)
+}
+
+/// Writes `<out_dir>/<System>.ssp` for each system of `models/systems/` (one progress line
+/// each); `packaged` maps the modelIdentifier of each FMU packaged in this run to its
+/// modelDescription.xml. With `partial` (`--only`), a system that needs an FMU left out is
+/// skipped; otherwise that is an error. Returns (systems written, failures).
+fn package_systems(
+    root: &Path,
+    out_dir: &Path,
+    packaged: &BTreeMap<String, String>,
+    partial: bool,
+) -> (usize, usize) {
+    let declarations = match systems::discover(root) {
+        Ok(d) => d,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return (0, 1);
+        }
+    };
+    let (mut written, mut failed) = (0, 0);
+    let mut interfaces = BTreeMap::new();
+    for (id, xml) in packaged {
+        match interface::parse(xml) {
+            Ok(i) => {
+                interfaces.insert(id.clone(), i);
+            }
+            Err(e) if !declarations.is_empty() => {
+                eprintln!("error: {id}: {e}");
+                failed += 1;
+            }
+            Err(_) => {}
+        }
+    }
+    for (_, decl) in &declarations {
+        let left_out: Vec<&str> = decl
+            .fmus()
+            .into_iter()
+            .filter(|f| !packaged.contains_key(*f))
+            .collect();
+        if partial && !left_out.is_empty() {
+            println!(
+                "  {:<20}skipped: --only left out {}",
+                decl.name,
+                left_out.join(", ")
+            );
+            continue;
+        }
+        let path = out_dir.join(format!("{}.ssp", decl.name));
+        let result = systems::resolve(decl, &interfaces)
+            .and_then(|s| ssp::write_ssp(&path, &s, out_dir).map(|size| (s, size)));
+        match result {
+            Ok((s, size)) => {
+                written += 1;
+                println!(
+                    "  {:<20}{}  ({} kB, {} components, {} connections)",
+                    s.name,
+                    shown(&path),
+                    size.div_ceil(1000),
+                    s.components.len(),
+                    s.connections.len()
+                );
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                failed += 1;
+            }
+        }
+    }
+    (written, failed)
 }
 
 /// Zips one model into `<out_dir>/<identifier>.fmu` (creating `out_dir` if needed);

@@ -92,14 +92,20 @@ pub fn fmu_bytes(contents: &FmuContents) -> Result<Vec<u8>, String> {
 /// place) and returns its size in bytes. The directory must exist.
 pub fn write_fmu(path: &Path, contents: &FmuContents) -> Result<u64, String> {
     let bytes = fmu_bytes(contents)?;
+    write_atomically(path, &bytes).map(|()| bytes.len() as u64)
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same directory, renamed into
+/// place, so that `path` is never half-written. The directory must exist.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
     let tmp = temp_path(path);
-    let result = fs::write(&tmp, &bytes)
+    let result = fs::write(&tmp, bytes)
         .and_then(|()| fs::rename(&tmp, path))
         .map_err(|e| format!("could not write {}: {e}", path.display()));
     if result.is_err() {
         let _ = fs::remove_file(&tmp);
     }
-    result.map(|()| bytes.len() as u64)
+    result
 }
 
 /// `dir/.<name>.tmp-<pid>`: hidden, beside the target (so the rename stays on one file

@@ -202,3 +202,162 @@ fn builds_extracts_and_packages_a_fake_workspace() {
 
     let _ = fs::remove_dir_all(&root);
 }
+
+/// A model with an input and an output, for the systems test.
+const GAIN_LIB: &str = r#"
+use std::ffi::c_char;
+#[no_mangle]
+pub extern "C" fn fmu_runtime_model_identifier() -> *const c_char { c"Gain".as_ptr() }
+#[no_mangle]
+pub extern "C" fn fmu_runtime_model_description() -> *const c_char {
+    c"<?xml version=\"1.0\" encoding=\"UTF-8\"?>
+<fmiModelDescription fmiVersion=\"2.0\" modelName=\"Gain\" guid=\"{0}\">
+  <CoSimulation modelIdentifier=\"Gain\"/>
+  <UnitDefinitions><Unit name=\"rad/s\"><BaseUnit s=\"-1\" rad=\"1\"/></Unit></UnitDefinitions>
+  <ModelVariables>
+    <ScalarVariable name=\"k\" valueReference=\"0\" causality=\"parameter\" variability=\"fixed\"><Real start=\"2\"/></ScalarVariable>
+    <ScalarVariable name=\"u\" valueReference=\"1\" causality=\"input\"><Real start=\"0\" unit=\"rad/s\"/></ScalarVariable>
+    <ScalarVariable name=\"y\" valueReference=\"2\" causality=\"output\"><Real unit=\"rad/s\"/></ScalarVariable>
+  </ModelVariables>
+</fmiModelDescription>
+".as_ptr()
+}
+#[no_mangle]
+pub extern "C" fn fmu_runtime_documentation() -> *const c_char {
+    c"<!DOCTYPE html><html><body>Gain</body></html>".as_ptr()
+}
+"#;
+
+const LOOP_SYSTEM: &str = r#"
+connections = ["a.y -> b.u", "b.y -> a.u"]
+
+[parameters]
+"b.k" = 0.5
+
+[[components]]
+name = "a"
+fmu = "Gain"
+
+[[components]]
+name = "b"
+fmu = "Gain"
+"#;
+
+#[test]
+fn writes_an_ssp_for_each_declared_system() {
+    let root: PathBuf =
+        std::env::temp_dir().join(format!("build-fmus-systems-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&root);
+    // Members listed one by one, as in this workspace: cargo takes a `models/*` glob to
+    // cover models/systems/ too and fails on it, as it has no Cargo.toml.
+    write(
+        &root,
+        "Cargo.toml",
+        "[workspace]\nresolver = \"2\"\nmembers = [\"models/gain\"]\n",
+    );
+    write(
+        &root,
+        "models/gain/Cargo.toml",
+        &manifest("gain", "[lib]\ncrate-type = [\"cdylib\"]"),
+    );
+    write(&root, "models/gain/src/lib.rs", GAIN_LIB);
+    write(&root, "models/systems/Loop.toml", LOOP_SYSTEM);
+
+    let out_dir = root.join("out");
+    let out = run(&root, &["--out", out_dir.to_str().unwrap()]);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(out.status.success(), "stdout:\n{stdout}\nstderr:\n{stderr}");
+    assert!(
+        stdout.contains("Loop")
+            && stdout.contains("Loop.ssp")
+            && stdout.contains("2 components, 2 connections"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("Packaged 1 FMU and 1 system"), "{stdout}");
+
+    let ssp = out_dir.join("Loop.ssp");
+    let mut archive = zip::ZipArchive::new(fs::File::open(&ssp).unwrap()).unwrap();
+    let names: Vec<String> = archive
+        .file_names()
+        .map(|n| n.unwrap().into_owned())
+        .collect();
+    assert_eq!(names, ["SystemStructure.ssd", "resources/Gain.fmu"]);
+    let mut fmu = Vec::new();
+    archive
+        .by_name("resources/Gain.fmu")
+        .unwrap()
+        .read_to_end(&mut fmu)
+        .unwrap();
+    assert_eq!(fmu, fs::read(out_dir.join("Gain.fmu")).unwrap());
+    let mut ssd = String::new();
+    archive
+        .by_name("SystemStructure.ssd")
+        .unwrap()
+        .read_to_string(&mut ssd)
+        .unwrap();
+    for part in [
+        "xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\"",
+        "<ssd:Component name=\"b\" type=\"application/x-fmu-sharedlibrary\" source=\"resources/Gain.fmu\">",
+        "<ssd:Connector name=\"u\" kind=\"input\">",
+        "<ssc:Real unit=\"rad/s\"/>",
+        "<ssv:Parameter name=\"k\">",
+        "<ssv:Real value=\"0.5\"/>",
+        "<ssd:Connection startElement=\"b\" startConnector=\"y\" endElement=\"a\" endConnector=\"u\"/>",
+        "<ssc:Unit name=\"rad/s\">",
+    ] {
+        assert!(ssd.contains(part), "{part} not in\n{ssd}");
+    }
+
+    // A declaration naming a variable the FMU lacks: a clear error, exit code 1; the other
+    // system is still written.
+    write(
+        &root,
+        "models/systems/Broken.toml",
+        "connections = [\"a.y -> a.v\", \"a.u -> a.y\"]\n[[components]]\nname = \"a\"\nfmu = \"Gain\"\n",
+    );
+    fs::remove_file(&ssp).unwrap();
+    let out = run(&root, &["--out", out_dir.to_str().unwrap()]);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    assert!(
+        stderr.contains("system Broken")
+            && stderr
+                .contains("a (Gain) has no variable \"v\" (inputs: u; outputs: y; parameters: k)")
+            && stderr.contains("a.u is an input, not an output"),
+        "{stderr}"
+    );
+    assert!(ssp.exists(), "{stdout}");
+    assert!(!out_dir.join("Broken.ssp").exists());
+    assert!(stdout.contains("1 failed"), "{stdout}");
+
+    // A system whose FMU is not among those --only selects is skipped, not an error.
+    write(
+        &root,
+        "models/systems/Broken.toml",
+        "[[components]]\nname = \"g\"\nfmu = \"Ghost\"\n",
+    );
+    let out = run(
+        &root,
+        &["--only", "Gain", "--out", out_dir.to_str().unwrap()],
+    );
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(out.status.success(), "stdout:\n{stdout}\nstderr:\n{stderr}");
+    assert!(
+        stdout.contains("skipped: --only left out Ghost"),
+        "{stdout}"
+    );
+    // ... but without --only it is: the FMU does not exist.
+    let out = run(&root, &["--out", out_dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("component g: no FMU \"Ghost\" was built (FMUs: Gain)"),
+        "{}",
+        text(&out.stderr)
+    );
+
+    let _ = fs::remove_dir_all(&root);
+}

@@ -440,9 +440,7 @@ fn guid_of(content: &str) -> String {
 
 impl ModelDescription {
     pub fn of<M: Model>() -> ModelDescription {
-        let mut d = crate::variables::Declarations::new();
-        let model = M::declare(&mut d);
-        let table = d.into_table();
+        let (model, _, table) = crate::model::declare::<M>();
         // Probe at a generic time inside the default experiment, not at its start, where a
         // sine source would hide its amplitude (sin 0 = 0).
         let e = M::info().default_experiment;

@@ -36,6 +36,12 @@ type Equations = OdeSolverEquations<Mat, Closure<Mat, RhsFn, JacFn>, ConstantClo
 /// up) into an error message instead of a hang.
 pub const MAX_INTERNAL_STEPS: usize = 200_000;
 
+/// An interval too short for a solver's stop time at time `t` (diffsol refuses a stop time
+/// within its own rounding of the current time): 1000 ulp of t.
+pub fn negligible_interval(t: f64) -> f64 {
+    1e3 * f64::EPSILON * t.abs().max(1.0)
+}
+
 /// Relative tolerance when the master gives none in fmi2SetupExperiment.
 pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-7;
 
@@ -150,7 +156,7 @@ impl Integrator {
         }
         // A step so short that t0 + h rounds to t0 (relative to t0) cannot be resolved by a
         // solver's stop time; one explicit Euler step is exact to O(h^2) there.
-        if t1 - t0 <= 8.0 * f64::EPSILON * t0.abs().max(1.0) {
+        if t1 - t0 <= negligible_interval(t0) {
             let mut dx = vec![0.0; x.len()];
             (self.rhs)(x, &p, t0, &mut dx);
             for (xi, d) in x.iter_mut().zip(&dx) {

@@ -51,6 +51,16 @@ pub trait Model: Sized + Send + Sync + 'static {
     /// handles. Value references follow declaration order.
     fn declare(d: &mut Declarations) -> Self;
 
+    /// Whether the FMU extrapolates its inputs by default (the FMI Boolean parameter
+    /// `extrapolate_inputs`, declared by the runtime for every model with inputs): over a
+    /// Co-Simulation step with no input derivatives from the master, each input follows the line
+    /// through its values at the last two communication points instead of being held. Right for
+    /// physical couplings (speeds, torques) with masters that hold inputs; wrong for inputs that
+    /// jump (a switched voltage), so off unless a model says otherwise.
+    fn extrapolates_inputs() -> bool {
+        false
+    }
+
     /// Checks relations between parameters that per-variable min/max cannot express; called
     /// when initialization ends. The message names the offending parameter.
     fn check(&self, _k: &Knowns) -> Result<(), String> {
@@ -88,4 +98,25 @@ pub fn evaluate<M: Model>(
     derivatives.fill(0.0);
     model.derivatives(&k, &mut Derivatives::new(derivatives));
     model.outputs(&k, &mut Outputs::new(calculated));
+}
+
+/// What the runtime itself declares beside a model's own variables.
+#[derive(Clone, Copy, Debug)]
+pub struct RuntimeVariables {
+    /// `extrapolate_inputs`, for models with inputs.
+    pub extrapolate_inputs: Option<crate::variables::BooleanParameter>,
+}
+
+/// Declares a model's variables, then the runtime's (after them, so the model's value
+/// references do not depend on the runtime's).
+pub fn declare<M: Model>() -> (M, RuntimeVariables, crate::variables::VariableTable) {
+    let mut d = crate::variables::Declarations::new();
+    let model = M::declare(&mut d);
+    let extrapolate_inputs = d.has_inputs().then(|| {
+        d.boolean_parameter("extrapolate_inputs", M::extrapolates_inputs()).describe(
+            "Co-Simulation: over a step without input derivatives from the master, extrapolate each input \
+             linearly through its values at the last two communication points (instead of holding it)",
+        )
+    });
+    (model, RuntimeVariables { extrapolate_inputs }, d.into_table())
 }

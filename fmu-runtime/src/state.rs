@@ -13,7 +13,7 @@ use crate::lifecycle::Mode;
 use crate::values::Values;
 
 pub const MAGIC: &[u8; 8] = b"FMURSST\0";
-pub const FORMAT_VERSION: u32 = 2;
+pub const FORMAT_VERSION: u32 = 3;
 
 /// The experiment set by fmi2SetupExperiment.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,6 +42,8 @@ pub struct Snapshot {
     /// Input derivatives set for the next step (by known index).
     pub input_slopes: Vec<f64>,
     pub input_curvatures: Vec<f64>,
+    /// The known reals at the previous communication point and its time (input extrapolation).
+    pub previous_inputs: Option<(f64, Vec<f64>)>,
 }
 
 /// FNV-1a, 64 bit. Any change of a single byte changes the hash (each step is a bijection).
@@ -144,6 +146,8 @@ impl Snapshot {
         w.reals(&self.states);
         w.reals(&self.input_slopes);
         w.reals(&self.input_curvatures);
+        w.opt(self.previous_inputs.as_ref().map(|(t, _)| *t));
+        w.reals(self.previous_inputs.as_ref().map(|(_, v)| v.as_slice()).unwrap_or(&[]));
         w.u32(self.values.integers.len() as u32);
         self.values.integers.iter().for_each(|i| w.u32(*i as u32));
         w.u32(self.values.booleans.len() as u32);
@@ -192,6 +196,14 @@ impl Snapshot {
         let states = r.reals("states", shape.states)?;
         let input_slopes = r.reals("input slopes", shape.known)?;
         let input_curvatures = r.reals("input curvatures", shape.known)?;
+        let previous_time = r.opt()?;
+        let previous_inputs = match previous_time {
+            Some(t) => Some((t, r.reals("previous inputs", shape.known)?)),
+            None => {
+                r.reals("previous inputs", 0)?;
+                None
+            }
+        };
         let n_int = r.u32()? as usize;
         if n_int != shape.integers {
             return Err(format!("the serialized FMU state has {n_int} integers, this FMU has {}", shape.integers));
@@ -214,6 +226,7 @@ impl Snapshot {
             step_size,
             input_slopes,
             input_curvatures,
+            previous_inputs,
         })
     }
 }
@@ -303,6 +316,7 @@ mod tests {
             step_size: Some(1e-5),
             input_slopes: vec![0.0, 0.5, 0.0],
             input_curvatures: vec![0.0, 0.0, -1.0],
+            previous_inputs: Some((0.04, vec![1.0, 2.0, -3.0])),
         }
     }
 

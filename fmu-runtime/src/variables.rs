@@ -224,6 +224,13 @@ handle!(
     BooleanParameter
 );
 
+impl BooleanParameter {
+    /// Index into the boolean store.
+    pub fn index(self) -> usize {
+        self.0
+    }
+}
+
 /// A continuous state: read as `k[state]`, its derivative written as `der[state] = value`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct State {
@@ -300,6 +307,11 @@ impl Declarations {
 
     pub fn into_table(self) -> VariableTable {
         self.table
+    }
+
+    /// Whether any input has been declared.
+    pub fn has_inputs(&self) -> bool {
+        self.table.variables.iter().any(|v| v.causality == Causality::Input)
     }
 
     fn push(&mut self, mut var: Variable) -> usize {

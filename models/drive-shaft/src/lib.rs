@@ -1,7 +1,13 @@
 //! DriveShaft: the motor-fan's driveshaft as an FMU of its own (docs/motor-fan-system-spec.md).
-//! Both speeds in, torque out: d(theta)/dt = speed_a - speed_b, T = K theta + D (speed_a - speed_b).
-//! Coupling expected: InductionMotor.speed -> `speed_a`, Fan.speed_high -> `speed_b`,
-//! `torque` -> InductionMotor.load_torque and Fan.shaft_torque.
+//! Both ends' angles and speeds in, torque out: theta = angle_a - angle_b,
+//! T = K theta + D (speed_a - speed_b).
+//! Coupling expected: InductionMotor.angle/speed -> `angle_a`/`speed_a`, Fan.angle_high/speed_high
+//! -> `angle_b`/`speed_b`, `torque` -> InductionMotor.load_torque and Fan.shaft_torque.
+//!
+//! Why angles and not a twist state integrating the speeds: a master holding its inputs over a
+//! communication step would make such a state integrate stale speeds, an error that accumulates
+//! into the twist; the inertias integrate their own angles accurately, so the twist taken from
+//! them is exact at every communication point.
 
 use components::activity::activity_rate;
 use drive_train::ShaftParameters;
@@ -9,9 +15,10 @@ use fmu_runtime::prelude::*;
 
 pub struct DriveShaft {
     shaft: ShaftParameters,
+    angle_a: Input,
+    angle_b: Input,
     speed_a: Input,
     speed_b: Input,
-    twist: State,
     activity: State,
     y_torque: Output,
     y_twist: Output,
@@ -20,12 +27,13 @@ pub struct DriveShaft {
 
 const DOCUMENTATION: &str = r#"
 <p>The driveshaft of the cooling-tower fan (chapter 3, Figure 3.4) as a subsystem: a torsion spring with internal
-damping between the motor (speed_a) and the reducer's high-speed shaft (speed_b):
-d(theta)/dt = speed_a - speed_b, torque = K_shaft theta + D_shaft (speed_a - speed_b). K_shaft = 906.85 N m/rad
+damping between the motor (angle_a, speed_a) and the reducer's high-speed shaft (angle_b, speed_b):
+theta = angle_a - angle_b, torque = K_shaft theta + D_shaft (speed_a - speed_b). K_shaft = 906.85 N m/rad
 gives the chapter's 1.4 Hz resonance against the fan inertia referred to the high-speed axis (eq. 3.8).</p>
-<p>Coupling: speeds in, torque out. The damping term passes the input speeds straight to the torque (direct
-feedthrough); the inertias it connects take torque in and give speeds that are states, so no algebraic loop forms.
-Input derivatives and first output derivatives are supported for extrapolating masters.</p>
+<p>Coupling: angles and speeds in, torque out (direct feedthrough); the inertias it connects take torque in and give
+angles and speeds that are states, so no algebraic loop forms. The twist comes from the two angles rather than
+from integrating the speeds inside the shaft, so a master that holds inputs over a step does not accumulate a
+twist error. Input derivatives and first output derivatives are supported for extrapolating masters.</p>
 "#;
 
 impl Model for DriveShaft {
@@ -39,28 +47,35 @@ impl Model for DriveShaft {
         }
     }
 
+    /// Physical couplings (speeds, angles, torques) are smooth: extrapolate them by default, so
+    /// masters that hold inputs over a step couple accurately (docs/motor-fan-system-spec.md).
+    fn extrapolates_inputs() -> bool {
+        true
+    }
+
     fn declare(d: &mut Declarations) -> Self {
         DriveShaft {
             shaft: ShaftParameters::declare(d),
+            angle_a: d.input("angle_a", 0.0, "rad").describe("Motor-side angle (connect InductionMotor.angle)"),
+            angle_b: d.input("angle_b", 0.0, "rad").describe("Reducer-side angle on the high-speed axis (connect Fan.angle_high)"),
             speed_a: d.input("speed_a", 0.0, "rad/s").describe("Motor-side speed (connect InductionMotor.speed)"),
             speed_b: d.input("speed_b", 0.0, "rad/s").describe("Reducer-side speed on the high-speed axis (connect Fan.speed_high)"),
-            twist: d.state("theta", 0.0, "rad").describe("Twist angle of the shaft"),
             activity: d.state("A_stiffness", 0.0, "J").nominal(1e-3).describe("Activity of the shaft stiffness (eq. 3.3)"),
             y_torque: d.output("torque", "N.m").describe("Transmitted torque, K theta + D (speed_a - speed_b)"),
-            y_twist: d.output("twist", "rad").describe("Twist angle"),
+            y_twist: d.output("twist", "rad").describe("Twist angle, angle_a - angle_b"),
             y_activity: d.output("activity_stiffness", "J").describe("Activity of the shaft stiffness, integral of |K theta dtheta/dt| (eq. 3.3)"),
         }
     }
 
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
-        let rate = k[self.speed_a] - k[self.speed_b];
-        der[self.twist] = rate;
-        der[self.activity] = activity_rate(self.shaft.spring(k).spring_power_w(k[self.twist], rate));
+        let (twist, rate) = (k[self.angle_a] - k[self.angle_b], k[self.speed_a] - k[self.speed_b]);
+        der[self.activity] = activity_rate(self.shaft.spring(k).spring_power_w(twist, rate));
     }
 
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
-        out[self.y_torque] = self.shaft.spring(k).torque_n_m(k[self.twist], k[self.speed_a] - k[self.speed_b]);
-        out[self.y_twist] = k[self.twist];
+        let twist = k[self.angle_a] - k[self.angle_b];
+        out[self.y_torque] = self.shaft.spring(k).torque_n_m(twist, k[self.speed_a] - k[self.speed_b]);
+        out[self.y_twist] = twist;
         out[self.y_activity] = k[self.activity];
     }
 }

@@ -1,7 +1,8 @@
 //! Fan: the reducer, the fan inertia and its aerodynamic load as an FMU of its own
 //! (docs/motor-fan-system-spec.md). Torque in (on the reducer's high-speed shaft), speed out:
 //! J_fan dw/dt = T_low - k w |w|, T_low from the reducer (ratio, efficiency by power direction).
-//! Coupling expected: DriveShaft.torque -> `shaft_torque`, `speed_high` -> DriveShaft.speed_b.
+//! Coupling expected: DriveShaft.torque -> `shaft_torque`, `angle_high`/`speed_high` ->
+//! DriveShaft.angle_b/speed_b.
 
 use components::activity::activity_rate;
 use drive_train::FanParameters;
@@ -11,8 +12,10 @@ pub struct Fan {
     fan: FanParameters,
     shaft_torque: Input,
     w: State,
+    angle: State,
     activity: State,
     y_speed_high: Output,
+    y_angle_high: Output,
     y_fan_speed: Output,
     y_aero_torque: Output,
     y_activity: Output,
@@ -23,8 +26,9 @@ const DOCUMENTATION: &str = r#"
 high-speed shaft reaches the fan as N eta T when the power flows to the fan and N T / eta when it flows back;
 J_fan dw/dt = T_low - k_fan w |w|. Seen from the high-speed axis the fan inertia is J_fan / N<sup>2</sup> = 11.72 kg m<sup>2</sup>
 (eqs. 3.4-3.7).</p>
-<p>Coupling: torque in, speed out. Connect DriveShaft.torque to <code>shaft_torque</code> and <code>speed_high</code>
-(the reducer input speed, N x fan_speed, a state) to DriveShaft.speed_b. Input derivatives and first output
+<p>Coupling: torque in, angle and speed out. Connect DriveShaft.torque to <code>shaft_torque</code>, and
+<code>angle_high</code> and <code>speed_high</code> (the reducer input angle and speed, N x the fan's, states) to
+DriveShaft.angle_b and speed_b. Input derivatives and first output
 derivatives are supported for extrapolating masters.</p>
 "#;
 
@@ -39,13 +43,21 @@ impl Model for Fan {
         }
     }
 
+    /// Physical couplings (speeds, angles, torques) are smooth: extrapolate them by default, so
+    /// masters that hold inputs over a step couple accurately (docs/motor-fan-system-spec.md).
+    fn extrapolates_inputs() -> bool {
+        true
+    }
+
     fn declare(d: &mut Declarations) -> Self {
         Fan {
             fan: FanParameters::declare(d),
             shaft_torque: d.input("shaft_torque", 0.0, "N.m").describe("Torque on the reducer's high-speed shaft (connect DriveShaft.torque)"),
             w: d.state("w_fan", 0.0, "rad/s").nominal(10.0).describe("Fan speed (low-speed side)"),
+            angle: d.state("phi_fan", 0.0, "rad").nominal(10.0).describe("Fan angle (low-speed side)"),
             activity: d.state("A_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the fan inertia (eq. 3.3)"),
             y_speed_high: d.output("speed_high", "rad/s").describe("Reducer input speed on the high-speed axis, N x fan speed"),
+            y_angle_high: d.output("angle_high", "rad").describe("Reducer input angle on the high-speed axis, N x fan angle"),
             y_fan_speed: d.output("fan_speed", "rad/s").describe("Fan speed (low-speed side)"),
             y_aero_torque: d.output("aero_torque", "N.m").describe("Aerodynamic torque of the blades, k_fan w |w|"),
             y_activity: d.output("activity_inertia", "J").describe("Activity of the fan inertia, integral of |J dw/dt w| (eq. 3.3)"),
@@ -57,12 +69,14 @@ impl Model for Fan {
         let low_torque = reducer.low_side_torque_n_m(k[self.shaft_torque], reducer.ratio * w);
         let acceleration = inertia.acceleration_rad_per_s2(low_torque - self.fan.load(k).torque_n_m(w));
         der[self.w] = acceleration;
+        der[self.angle] = w;
         der[self.activity] = activity_rate(inertia.power_w(acceleration, w));
     }
 
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
         let w = k[self.w];
         out[self.y_speed_high] = self.fan.reducer(k).ratio * w;
+        out[self.y_angle_high] = self.fan.reducer(k).ratio * k[self.angle];
         out[self.y_fan_speed] = w;
         out[self.y_aero_torque] = self.fan.load(k).torque_n_m(w);
         out[self.y_activity] = k[self.activity];

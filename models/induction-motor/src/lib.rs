@@ -2,7 +2,7 @@
 //! Torque in (the shaft's load torque), speed and angle out: J dw/dt = T_m - T_load. The
 //! electromagnetic torque comes from the steady-state equivalent circuit (MotorFan levels b-c),
 //! the dq model (`electrical_dynamics`, level d), or a converter's torque command (`drive` = 2).
-//! Coupling expected: `speed` -> DriveShaft.speed_a, DriveShaft.torque -> `load_torque`;
+//! Coupling expected: `angle`/`speed` -> DriveShaft.angle_a/speed_a, DriveShaft.torque -> `load_torque`;
 //! with a converter, SpeedController.torque_command -> `torque_command`.
 
 use components::activity::activity_rate;
@@ -66,7 +66,8 @@ const DOCUMENTATION: &str = r#"
 J_motor dw/dt = T_m - load_torque, with T_m from the steady-state T-equivalent circuit, from the dq model
 (<code>electrical_dynamics</code> = true: stator and rotor fluxes in the synchronous frame), or, with
 <code>drive</code> = 2, from a converter that follows <code>torque_command</code>.</p>
-<p>Coupling: torque in, speed out. Connect <code>speed</code> to DriveShaft.speed_a and DriveShaft.torque to
+<p>Coupling: torque in, angle and speed out. Connect <code>angle</code> and <code>speed</code> to DriveShaft.angle_a
+and speed_a, and DriveShaft.torque to
 <code>load_torque</code>; with a converter, SpeedController.torque_command to <code>torque_command</code>.
 The speed is a state: it does not depend directly on any input, so no algebraic loop forms.
 Input derivatives and first output derivatives are supported for extrapolating masters.</p>
@@ -81,6 +82,12 @@ impl Model for InductionMotor {
             solver: Solver::ExplicitRungeKutta,
             documentation: DOCUMENTATION,
         }
+    }
+
+    /// Physical couplings (speeds, angles, torques) are smooth: extrapolate them by default, so
+    /// masters that hold inputs over a step couple accurately (docs/motor-fan-system-spec.md).
+    fn extrapolates_inputs() -> bool {
+        true
     }
 
     fn declare(d: &mut Declarations) -> Self {

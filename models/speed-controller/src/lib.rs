@@ -41,6 +41,12 @@ impl Model for SpeedController {
         }
     }
 
+    /// Physical couplings (speeds, angles, torques) are smooth: extrapolate them by default, so
+    /// masters that hold inputs over a step couple accurately (docs/motor-fan-system-spec.md).
+    fn extrapolates_inputs() -> bool {
+        true
+    }
+
     fn declare(d: &mut Declarations) -> Self {
         SpeedController {
             control: ControllerParameters::declare(d),

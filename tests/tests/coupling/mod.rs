@@ -77,6 +77,8 @@ impl Fmus {
             .with(motor)
             .with(Component::new("DriveShaft", &self.shaft))
             .with(fan)
+            .connect("InductionMotor.angle", "DriveShaft.angle_a")
+            .connect("Fan.angle_high", "DriveShaft.angle_b")
             .connect("InductionMotor.speed", "DriveShaft.speed_a")
             .connect("Fan.speed_high", "DriveShaft.speed_b")
             .connect("DriveShaft.torque", "InductionMotor.load_torque")

@@ -1,0 +1,197 @@
+"""Model Exchange against Co-Simulation: the same equations, integrated by two different solvers.
+
+Every dist/*.fmu offers both interfaces from one binary. Each FMU is simulated with fmpy
+  * as ModelExchange, fmpy's CVode (BDF) at relative_tolerance=1e-8 (the reference), and
+  * as CoSimulation, the FMU's own solver at its default tolerance (no relative_tolerance passed),
+over its DefaultExperiment (stop time; output_interval = its stepSize, which is also the CS
+communication step), and every Real output (causality="output") must agree at every output point:
+
+    |y_ME(t) - y_CS(t)| <= REL_TOL * max(max(y_CS) - min(y_CS), ABS_FLOOR)   for every t
+
+MotorFan is also run in configurations its default experiment does not reach (level d
+direct-on-line, level c with the PI start and with inverse simulation, level a), over 0-15 s.
+
+fmpy quirks handled here (TOOLS.md and fmpy's simulateME):
+  * ME records at events too unless record_events=False; with it, both runs have one row per
+    output point start + k * output_interval, which the test asserts before comparing.
+  * For CS, output_interval is the communication step.
+
+Each test puts its table (worst error per output, and the time where it occurs) into its assertion
+message; all tables and the wall-clock time of every simulation are printed at the end of the
+module by the terminal reporter, with or without `pytest -s`.
+"""
+
+from __future__ import annotations
+
+import atexit
+import functools
+import shutil
+import time
+
+import numpy as np
+import pytest
+from fmpy import extract, read_model_description, simulate_fmu
+
+from conftest import DIST_DIR, require_fmu
+
+REL_TOL = 1e-4  # of each output's range over the CS run
+ABS_FLOOR = 1e-12  # the "range" of an output that is constant
+ME_RELATIVE_TOLERANCE = 1e-8  # CVode, for the reference run
+
+MOTOR_FAN_STOP_TIME = 15.0
+MOTOR_FAN_CONFIGURATIONS = {
+    # id: start values (all other parameters at their defaults)
+    "level_d_direct_on_line": {"level": 4, "start_mode": 1},
+    "level_c_PI": {"level": 3, "start_mode": 2},
+    "level_c_inverse_simulation": {"level": 3, "start_mode": 3},
+    "level_a": {"level": 1},  # direct-on-line at level a is quasi-static: every output is constant
+    "level_a_PI": {"level": 1, "start_mode": 2},
+}
+
+# Tables and timings of every comparison in this module, printed at its end.
+REPORT: list[str] = []
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _print_report(request):
+    """Prints every table at the end of the module, past pytest's output capture (so with or
+    without `-s`)."""
+    yield
+    if not REPORT:
+        return
+    text = "\n".join(["", "== Model Exchange (CVode, rtol 1e-8) vs Co-Simulation (default tolerance): worst errors", *REPORT, ""])
+    capman = request.config.pluginmanager.getplugin("capturemanager")
+    if capman is not None:
+        with capman.global_and_fixture_disabled():
+            print(text, flush=True)
+    else:  # pragma: no cover (capture plugin disabled)
+        print(text, flush=True)
+
+
+def _fmu_key(fmu) -> tuple[str, float]:
+    """The FMU's path and modification time: a rebuilt FMU is never served from the caches."""
+    return str(fmu), fmu.stat().st_mtime
+
+
+@functools.lru_cache(maxsize=None)
+def _model_description(key: tuple[str, float]):
+    return read_model_description(key[0])
+
+
+@functools.lru_cache(maxsize=None)
+def _unzipdir(key: tuple[str, float]) -> str:
+    """Extract each FMU once per session (fmpy would extract it again for every simulation)."""
+    d = extract(key[0])
+    atexit.register(shutil.rmtree, d, ignore_errors=True)
+    return d
+
+
+def real_outputs(md) -> list[str]:
+    return [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
+
+
+def start_time(md) -> float:
+    de = md.defaultExperiment
+    return float(de.startTime) if de is not None and de.startTime is not None else 0.0
+
+
+def simulate(fmu, fmi_type: str, stop_time: float, output_interval: float, start_values: dict):
+    """(fmpy result, wall-clock seconds) of one run."""
+    key = _fmu_key(fmu)
+    md = _model_description(key)
+    extra = (
+        {"solver": "CVode", "relative_tolerance": ME_RELATIVE_TOLERANCE, "record_events": False}
+        if fmi_type == "ModelExchange"
+        else {}  # CS: the FMU's default tolerance
+    )
+    t0 = time.perf_counter()
+    res = simulate_fmu(
+        _unzipdir(key),
+        validate=False,  # test_validate.py validates every dist/*.fmu
+        model_description=md,
+        fmi_type=fmi_type,
+        start_time=start_time(md),
+        stop_time=stop_time,
+        output_interval=output_interval,
+        start_values=dict(start_values),
+        output=real_outputs(md),
+        **extra,
+    )
+    return res, time.perf_counter() - t0
+
+
+def compare(fmu, label: str, stop_time: float, output_interval: float, start_values: dict):
+    """Simulates ME and CS, returns (table text, list of failures)."""
+    md = _model_description(_fmu_key(fmu))
+    assert md.coSimulation is not None, f"{fmu.name} has no <CoSimulation> element"
+    assert md.modelExchange is not None, (
+        f"{fmu.name} has no <ModelExchange> element: every FMU must offer Model Exchange"
+    )
+    assert md.modelExchange.modelIdentifier == md.coSimulation.modelIdentifier, (
+        "one binary serves both interfaces: the modelIdentifiers must be equal"
+    )
+    names = real_outputs(md)
+    assert names, f"{fmu.name} has no Real output"
+
+    cs, cs_seconds = simulate(fmu, "CoSimulation", stop_time, output_interval, start_values)
+    me, me_seconds = simulate(fmu, "ModelExchange", stop_time, output_interval, start_values)
+
+    start = start_time(md)
+    n_expected = int(round((stop_time - start) / output_interval)) + 1
+    t_cs, t_me = np.asarray(cs["time"]), np.asarray(me["time"])
+    assert len(t_cs) == n_expected, f"CS run has {len(t_cs)} rows, expected {n_expected}"
+    assert len(t_me) == len(t_cs), f"ME run has {len(t_me)} rows, CS run {len(t_cs)}: different time grids"
+    grid = start + output_interval * np.arange(n_expected)
+    assert np.allclose(t_cs, grid, rtol=0, atol=1e-9 * output_interval), "CS rows are not on the output grid"
+    assert np.allclose(t_me, t_cs, rtol=0, atol=1e-9 * output_interval), (
+        f"ME and CS time grids differ (max |dt| = {np.max(np.abs(t_me - t_cs)):.3g} s)"
+    )
+
+    header = (
+        f"{fmu.stem} [{label}]: 0..{stop_time:g} s, {len(t_cs)} points every {output_interval:g} s; "
+        f"CS {cs_seconds:.2f} s, ME {me_seconds:.2f} s"
+    )
+    rows = [header, f"  {'output':<28} {'range (CS)':>12} {'max |ME-CS|':>12} {'rel. error':>10} {'at t':>9}"]
+    failures = []
+    for name in names:
+        y_cs = np.asarray(cs[name], dtype=float)
+        y_me = np.asarray(me[name], dtype=float)
+        if not (np.all(np.isfinite(y_cs)) and np.all(np.isfinite(y_me))):
+            failures.append(f"{name}: non-finite values (CS {np.sum(~np.isfinite(y_cs))}, ME {np.sum(~np.isfinite(y_me))})")
+            rows.append(f"  {name:<28} non-finite values")
+            continue
+        span = float(np.max(y_cs) - np.min(y_cs))
+        scale = max(span, ABS_FLOOR)
+        diff = np.abs(y_me - y_cs)
+        k = int(np.argmax(diff))
+        rel = float(diff[k] / scale)
+        flag = "" if rel <= REL_TOL else "  <-- FAIL"
+        rows.append(f"  {name:<28} {span:12.5g} {diff[k]:12.4g} {rel:10.2e} {t_cs[k]:9.4f}{flag}")
+        if rel > REL_TOL:
+            failures.append(
+                f"{name}: |ME - CS| = {diff[k]:.4g} at t = {t_cs[k]:.6g} s (ME {y_me[k]:.10g}, CS {y_cs[k]:.10g}), "
+                f"{rel:.3g} of its range {span:.5g} > {REL_TOL:g}"
+            )
+    table = "\n".join(rows)
+    REPORT.append(table)
+    return table, failures
+
+
+def test_model_exchange_matches_co_simulation_over_the_default_experiment(fmu_path):
+    md = _model_description(_fmu_key(fmu_path))
+    de = md.defaultExperiment
+    assert de is not None and de.stopTime is not None and de.stepSize is not None, (
+        f"{fmu_path.name}: the DefaultExperiment needs stopTime and stepSize"
+    )
+    table, failures = compare(fmu_path, "default experiment", float(de.stopTime), float(de.stepSize), {})
+    assert not failures, "ME and CS disagree:\n" + "\n".join(failures) + "\n" + table
+
+
+@pytest.mark.parametrize("config", list(MOTOR_FAN_CONFIGURATIONS), ids=list(MOTOR_FAN_CONFIGURATIONS))
+def test_motor_fan_model_exchange_matches_co_simulation(config):
+    fmu = require_fmu(DIST_DIR / "MotorFan.fmu")
+    md = _model_description(_fmu_key(fmu))
+    step = float(md.defaultExperiment.stepSize)
+    start_values = MOTOR_FAN_CONFIGURATIONS[config]
+    table, failures = compare(fmu, f"{config} {start_values}", MOTOR_FAN_STOP_TIME, step, start_values)
+    assert not failures, "ME and CS disagree:\n" + "\n".join(failures) + "\n" + table
