@@ -10,7 +10,7 @@
 //! them is exact at every communication point.
 
 use components::activity::activity_rate;
-use drive_train::ShaftParameters;
+use drive_train::{subsystem_info, ShaftParameters};
 use fmu_runtime::prelude::*;
 
 pub struct DriveShaft {
@@ -38,13 +38,12 @@ twist error. Input derivatives and first output derivatives are supported for ex
 
 impl Model for DriveShaft {
     fn info() -> ModelInfo {
-        ModelInfo {
-            name: "DriveShaft",
-            description: "Driveshaft torsion spring with damping, speeds in / torque out: the shaft of the cooling-tower fan (chapter 3, Figure 3.4) as a co-simulation subsystem",
-            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 5.0, step_size: 1e-3 },
-            solver: Solver::ExplicitRungeKutta,
-            documentation: DOCUMENTATION,
-        }
+        subsystem_info(
+            "DriveShaft",
+            "Driveshaft torsion spring with damping, speeds in / torque out: the shaft of the cooling-tower fan (chapter 3, Figure 3.4) as a co-simulation subsystem",
+            5.0,
+            DOCUMENTATION,
+        )
     }
 
     /// Physical couplings (speeds, angles, torques) are smooth: extrapolate them by default, so

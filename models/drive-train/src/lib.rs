@@ -194,3 +194,15 @@ pub fn converter_fed(machine: &InductionMachine, torque_n_m: f64, speed_rad_per_
     let slip = machine.stable_slip_for_torque(torque_n_m);
     (machine.steady_state_at_slip(slip).stator_current_rms_a, torque_n_m * speed_rad_per_s)
 }
+
+/// What every motor-fan subsystem FMU says about itself: explicit Runge-Kutta, 1 ms default
+/// communication step (the shaft's 3.9 Hz mode needs far finer than its period).
+pub fn subsystem_info(name: &'static str, description: &'static str, stop_time: f64, documentation: &'static str) -> ModelInfo {
+    ModelInfo {
+        name,
+        description,
+        default_experiment: DefaultExperiment { start_time: 0.0, stop_time, step_size: 1e-3 },
+        solver: Solver::ExplicitRungeKutta,
+        documentation,
+    }
+}

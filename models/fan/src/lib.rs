@@ -5,7 +5,7 @@
 //! DriveShaft.angle_b/speed_b.
 
 use components::activity::activity_rate;
-use drive_train::FanParameters;
+use drive_train::{subsystem_info, FanParameters};
 use fmu_runtime::prelude::*;
 
 pub struct Fan {
@@ -34,13 +34,12 @@ derivatives are supported for extrapolating masters.</p>
 
 impl Model for Fan {
     fn info() -> ModelInfo {
-        ModelInfo {
-            name: "Fan",
-            description: "Cooling-tower fan with its reducer and aerodynamic load, torque in / speed out (chapter 3, sections 3.1-3.3) as a co-simulation subsystem",
-            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 5.0, step_size: 1e-3 },
-            solver: Solver::ExplicitRungeKutta,
-            documentation: DOCUMENTATION,
-        }
+        subsystem_info(
+            "Fan",
+            "Cooling-tower fan with its reducer and aerodynamic load, torque in / speed out (chapter 3, sections 3.1-3.3) as a co-simulation subsystem",
+            5.0,
+            DOCUMENTATION,
+        )
     }
 
     /// Physical couplings (speeds, angles, torques) are smooth: extrapolate them by default, so

@@ -7,7 +7,7 @@
 
 use components::activity::activity_rate;
 use components::Fluxes;
-use drive_train::{converter_fed, MotorParameters};
+use drive_train::{converter_fed, MotorParameters, subsystem_info};
 use fmu_runtime::prelude::*;
 
 pub struct InductionMotor {
@@ -75,13 +75,12 @@ Input derivatives and first output derivatives are supported for extrapolating m
 
 impl Model for InductionMotor {
     fn info() -> ModelInfo {
-        ModelInfo {
-            name: "InductionMotor",
-            description: "Induction motor with rotor inertia, torque in / speed out: the motor of the cooling-tower fan (chapter 3, Figure 3.2) as a co-simulation subsystem",
-            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 5.0, step_size: 1e-3 },
-            solver: Solver::ExplicitRungeKutta,
-            documentation: DOCUMENTATION,
-        }
+        subsystem_info(
+            "InductionMotor",
+            "Induction motor with rotor inertia, torque in / speed out: the motor of the cooling-tower fan (chapter 3, Figure 3.2) as a co-simulation subsystem",
+            5.0,
+            DOCUMENTATION,
+        )
     }
 
     /// Physical couplings (speeds, angles, torques) are smooth: extrapolate them by default, so

@@ -3,7 +3,7 @@
 //! Coupling expected: InductionMotor.speed -> `measured_speed`, `torque_command` ->
 //! InductionMotor.torque_command (with InductionMotor.drive = 2).
 
-use drive_train::{ControllerParameters, SetPoint};
+use drive_train::{ControllerParameters, SetPoint, subsystem_info};
 use fmu_runtime::prelude::*;
 
 pub struct SpeedController {
@@ -32,13 +32,12 @@ impl SpeedController {
 
 impl Model for SpeedController {
     fn info() -> ModelInfo {
-        ModelInfo {
-            name: "SpeedController",
-            description: "Speed set-point ramp, second-order filter and PI speed controller with torque limit: the variable-speed start of the cooling-tower fan (chapter 3, Figure 3.7) as a co-simulation subsystem",
-            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 15.0, step_size: 1e-3 },
-            solver: Solver::ExplicitRungeKutta,
-            documentation: DOCUMENTATION,
-        }
+        subsystem_info(
+            "SpeedController",
+            "Speed set-point ramp, second-order filter and PI speed controller with torque limit: the variable-speed start of the cooling-tower fan (chapter 3, Figure 3.7) as a co-simulation subsystem",
+            15.0,
+            DOCUMENTATION,
+        )
     }
 
     /// Physical couplings (speeds, angles, torques) are smooth: extrapolate them by default, so
