@@ -54,21 +54,34 @@ fn index_of(var: &Variable) -> usize {
     var.value_reference as usize + 1
 }
 
-/// All unknowns (calculated reals and derivatives, by slot) evaluated at one point.
-fn evaluate<M: Model>(model: &M, t: f64, values: &Values, states: &[f64]) -> Option<(Vec<f64>, Vec<f64>)> {
-    let mut calculated = values.calculated.clone();
-    let mut derivatives = values.derivatives.clone();
-    catch_unwind(AssertUnwindSafe(|| {
-        crate::model::evaluate(model, t, &values.known, states, &values.integers, &values.booleans, &mut derivatives, &mut calculated)
-    }))
-    .ok()?;
-    Some((calculated, derivatives))
+/// The values of every unknown at one point: calculated reals, derivatives, and the states
+/// (which, at initialization, include the model's calculated initial states).
+struct Point {
+    calculated: Vec<f64>,
+    derivatives: Vec<f64>,
+    states: Vec<f64>,
 }
 
-fn unknown_value(var: &Variable, calc: &[f64], der: &[f64]) -> Option<f64> {
+/// All unknowns evaluated at one point. At initialization (`initial`), the calculated states
+/// are first computed from the knowns, as the instance does.
+fn evaluate<M: Model>(model: &M, table: &VariableTable, t: f64, values: &Values, states: &[f64], initial: bool) -> Option<Point> {
+    let mut p = Point { calculated: values.calculated.clone(), derivatives: values.derivatives.clone(), states: states.to_vec() };
+    catch_unwind(AssertUnwindSafe(|| {
+        if initial {
+            crate::model::initialize_states(model, table, t, &values.known, &values.integers, &values.booleans, &mut p.states).ok()?;
+        }
+        crate::model::evaluate(model, t, &values.known, &p.states, &values.integers, &values.booleans, &mut p.derivatives, &mut p.calculated);
+        Some(())
+    }))
+    .ok()??;
+    Some(p)
+}
+
+fn unknown_value(table: &VariableTable, var: &Variable, p: &Point) -> Option<f64> {
     match var.slot {
-        Slot::Calculated(i) => Some(calc[i]),
-        Slot::Derivative(i) => Some(der[i]),
+        Slot::Calculated(i) => Some(p.calculated[i]),
+        Slot::Derivative(i) => Some(p.derivatives[i]),
+        Slot::Known(_) => table.state_index(var).map(|s| p.states[s]),
         _ => None,
     }
 }
@@ -160,22 +173,23 @@ fn configurations(table: &VariableTable) -> Vec<Values> {
     configs
 }
 
-/// For each unknown (by position in `unknowns`), the knowns it depends on.
-fn dependencies<M: Model>(model: &M, table: &VariableTable, unknowns: &[&Variable], knowns: &[Known], t: f64) -> Vec<Dependencies> {
+/// For each unknown (by position in `unknowns`), the knowns it depends on; `initial`: at
+/// initialization (the calculated states are unknowns computed from the knowns).
+fn dependencies<M: Model>(model: &M, table: &VariableTable, unknowns: &[&Variable], knowns: &[Known], t: f64, initial: bool) -> Vec<Dependencies> {
     let mut deps: Vec<Dependencies> = vec![Some(BTreeSet::new()); unknowns.len()];
     for config in configurations(table) {
         for (values, states) in probe_points(table, &config) {
-            let Some((c0, d0)) = evaluate(model, t, &values, &states) else {
+            let Some(p0) = evaluate(model, table, t, &values, &states, initial) else {
                 return vec![None; unknowns.len()];
             };
             for known in knowns {
                 let (mut v, mut s) = (values.clone(), states.clone());
                 known.perturb(&mut v, &mut s);
-                let Some((c1, d1)) = evaluate(model, t, &v, &s) else {
+                let Some(p1) = evaluate(model, table, t, &v, &s, initial) else {
                     return vec![None; unknowns.len()];
                 };
                 for (u, dep) in unknowns.iter().zip(deps.iter_mut()) {
-                    let (a, b) = (unknown_value(u, &c0, &d0), unknown_value(u, &c1, &d1));
+                    let (a, b) = (unknown_value(table, u, &p0), unknown_value(table, u, &p1));
                     if let (Some(a), Some(b), Some(set)) = (a, b, dep.as_mut()) {
                         if moved(a, b) {
                             set.insert(index_of(known.variable()));
@@ -191,8 +205,7 @@ fn dependencies<M: Model>(model: &M, table: &VariableTable, unknowns: &[&Variabl
 /// The ModelStructure of a model, from its equations.
 pub fn structure<M: Model>(model: &M, table: &VariableTable, t: f64) -> Structure {
     let vars = &table.variables;
-    let state_known = |v: &&Variable| matches!(v.slot, Slot::Known(_)) && v.initial == Some(Initial::Exact) && v.causality == Causality::Local;
-    let state_index = |v: &Variable| table.state_value_reference.iter().position(|vr| *vr == v.value_reference);
+    let calculated_state = |v: &Variable| table.state_index(v).is_some() && v.initial == Some(Initial::Calculated);
     // Knowns while stepping: inputs and states.
     let mut run_knowns = Vec::new();
     // Knowns at initialization: also parameters (and state start values).
@@ -200,7 +213,7 @@ pub fn structure<M: Model>(model: &M, table: &VariableTable, t: f64) -> Structur
     for v in vars {
         let k = match v.slot {
             Slot::Known(i) if v.causality == Causality::Input => Known::Real(v, i),
-            Slot::Known(_) if state_known(&v) => Known::State(v, state_index(v).expect("a declared state")),
+            Slot::Known(_) if table.state_index(v).is_some() => Known::State(v, table.state_index(v).expect("a declared state")),
             Slot::Known(i) => Known::Real(v, i),
             Slot::Integer(i) => Known::Integer(v, i),
             Slot::Boolean(i) => Known::Boolean(v, i),
@@ -209,7 +222,10 @@ pub fn structure<M: Model>(model: &M, table: &VariableTable, t: f64) -> Structur
         if matches!(k, Known::State(..)) || v.causality == Causality::Input {
             run_knowns.push(k);
         }
-        init_knowns.push(k);
+        // A calculated state is an unknown at initialization, not a known.
+        if !calculated_state(v) {
+            init_knowns.push(k);
+        }
     }
     let outputs: Vec<&Variable> = vars.iter().filter(|v| v.causality == Causality::Output).collect();
     let derivatives: Vec<&Variable> = vars.iter().filter(|v| v.derivative_of.is_some()).collect();
@@ -219,13 +235,14 @@ pub fn structure<M: Model>(model: &M, table: &VariableTable, t: f64) -> Structur
             (v.causality == Causality::Output && v.initial != Some(Initial::Exact))
                 || v.causality == Causality::CalculatedParameter
                 || (v.derivative_of.is_some() && v.initial == Some(Initial::Calculated))
+                || calculated_state(v)
         })
         .collect();
     let zip = |us: &[&Variable], ds: Vec<Dependencies>| us.iter().map(|u| index_of(u)).zip(ds).collect::<Vec<_>>();
     Structure {
-        outputs: zip(&outputs, dependencies(model, table, &outputs, &run_knowns, t)),
-        derivatives: zip(&derivatives, dependencies(model, table, &derivatives, &run_knowns, t)),
-        initial_unknowns: zip(&initial, dependencies(model, table, &initial, &init_knowns, t)),
+        outputs: zip(&outputs, dependencies(model, table, &outputs, &run_knowns, t, false)),
+        derivatives: zip(&derivatives, dependencies(model, table, &derivatives, &run_knowns, t, false)),
+        initial_unknowns: zip(&initial, dependencies(model, table, &initial, &init_knowns, t, true)),
     }
 }
 
@@ -467,6 +484,21 @@ mod tests {
         assert_eq!(s.outputs, vec![(5, set(&[3])), (6, set(&[2]))]);
         assert_eq!(s.derivatives, vec![(4, set(&[2, 3]))]);
         assert_eq!(s.initial_unknowns, vec![(4, set(&[1, 2, 3])), (5, set(&[3])), (6, set(&[1, 2]))]);
+    }
+
+    #[test]
+    fn calculated_states_are_initial_unknowns_without_start() {
+        let d = ModelDescription::of::<crate::test_model::Relax>();
+        // indices: p=1, g=2, steady=3, u=4, T=5, der(T)=6, y=7
+        let set = |v: &[usize]| Some(v.iter().copied().collect::<BTreeSet<_>>());
+        let s = &d.structure;
+        // At initialization T = u + p/g (or u): it depends on every parameter and the input,
+        // and so does y = T. der(T) = p - g (T - u) is 0 or p: the input cancels out.
+        assert_eq!(s.initial_unknowns, vec![(5, set(&[1, 2, 3, 4])), (6, set(&[1, 2, 3])), (7, set(&[1, 2, 3, 4]))]);
+        // While stepping, T is a known like any state.
+        assert_eq!(s.outputs, vec![(7, set(&[5]))]);
+        assert_eq!(s.derivatives, vec![(6, set(&[4, 5]))]);
+        assert!(d.xml.contains(r#"<ScalarVariable name="T" valueReference="4" description="temperature" causality="local" variability="continuous" initial="calculated">"#), "{}", d.xml);
     }
 
     #[test]

@@ -178,7 +178,8 @@ impl<M: Model> Instance<M> {
         };
         inst.input_slopes = vec![0.0; inst.table.n_known];
         inst.input_curvatures = vec![0.0; inst.table.n_known];
-        inst.load_state_starts();
+        // A model whose initial states fail at the defaults says so at initialization.
+        let _ = inst.load_state_starts();
         inst
     }
 
@@ -195,10 +196,16 @@ impl<M: Model> Instance<M> {
         self.logger.log(fmi2OK, message);
     }
 
-    fn load_state_starts(&mut self) {
+    /// The states at initialization: the start values, and the model's own initial values of
+    /// its calculated states (also written back, so fmi2GetReal reads them).
+    fn load_state_starts(&mut self) -> Result<(), String> {
         for (x, k) in self.states.iter_mut().zip(&self.table.state_known_index) {
             *x = self.values.known[*k];
         }
+        let v = &self.values;
+        let result = crate::model::initialize_states(&*self.model, &self.table, self.time, &v.known, &v.integers, &v.booleans, &mut self.states);
+        self.store_states();
+        result
     }
 
     fn store_states(&mut self) {
@@ -213,7 +220,8 @@ impl<M: Model> Instance<M> {
             return;
         }
         if matches!(self.mode, Mode::Instantiated | Mode::InitializationMode) {
-            self.load_state_starts();
+            // A failure leaves NaN in the calculated states; exiting initialization reports it.
+            let _ = self.load_state_starts();
         }
         let v = &mut self.values;
         evaluate(&*self.model, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.derivatives, &mut v.calculated);
@@ -314,7 +322,10 @@ impl<M: Model> Instance<M> {
             self.mode = Mode::Error;
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
-        self.load_state_starts();
+        if let Err(message) = self.load_state_starts() {
+            self.mode = Mode::Error;
+            return Err(Failure::error(format!("initialization failed: {message}")));
+        }
         if self.interface == Interface::ModelExchange {
             self.mode = Mode::EventMode;
             self.stale = true;
@@ -472,7 +483,7 @@ impl<M: Model> Instance<M> {
         self.input_slopes.fill(0.0);
         self.input_curvatures.fill(0.0);
         self.mode = Mode::Instantiated;
-        self.load_state_starts();
+        let _ = self.load_state_starts();
         self.stale = true;
         self.debug("reset");
         Ok(())
@@ -1038,6 +1049,48 @@ mod tests {
         assert_eq!(i.mode, Mode::Instantiated);
         i.enter_initialization_mode().unwrap();
         assert_eq!(get(&mut i, 2), 1.0);
+    }
+
+    fn relax_value(i: &mut Instance<crate::test_model::Relax>, vr: u32) -> f64 {
+        let mut v = [0.0];
+        i.get(&[vr], &mut v).unwrap();
+        v[0]
+    }
+
+    #[test]
+    fn calculated_states_start_where_the_model_says() {
+        use crate::test_model::Relax;
+        // vrs: p=0, g=1, steady=2, u=3, T=4, der(T)=5, y=6
+        let mut i: Instance<Relax> = Instance::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        i.setup_experiment(None, 0.0, None).unwrap();
+        i.enter_initialization_mode().unwrap();
+        i.set(&[3], &[20.0]).unwrap();
+        // Readable during initialization: the steady state u + p/g = 20 + 3/2.
+        assert_eq!(relax_value(&mut i, 4), 21.5);
+        assert!(i.set(&[4], &[5.0]).is_err(), "a calculated state has no settable start");
+        i.exit_initialization_mode().unwrap();
+        i.do_step(0.0, 0.5).unwrap();
+        assert!((relax_value(&mut i, 4) - 21.5).abs() < 1e-9, "the steady state stays put");
+        // The cold start: T(0) = u, then T = u + p/g (1 - e^{-g t}).
+        i.reset().unwrap();
+        i.set(&[2], &[false]).unwrap();
+        i.enter_initialization_mode().unwrap();
+        i.exit_initialization_mode().unwrap();
+        assert_eq!(relax_value(&mut i, 6), 10.0);
+        i.do_step(0.0, 0.5).unwrap();
+        let exact = 10.0 + 1.5 * (1.0 - (-1.0f64).exp());
+        assert!((relax_value(&mut i, 4) - exact).abs() < 1e-6, "{}", relax_value(&mut i, 4));
+    }
+
+    #[test]
+    fn a_calculated_state_without_a_finite_value_fails_initialization_by_name() {
+        use crate::test_model::Relax;
+        let mut i: Instance<Relax> = Instance::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        i.enter_initialization_mode().unwrap();
+        i.set(&[1], &[0.0]).unwrap(); // g = 0: no steady state (p/0)
+        let e = i.exit_initialization_mode().unwrap_err();
+        assert!(e.message.contains("'T'") && e.message.contains("initial value"), "{}", e.message);
+        assert_eq!(i.mode, Mode::Error);
     }
 }
 

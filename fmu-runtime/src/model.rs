@@ -1,7 +1,7 @@
 //! The `Model` trait: what a model author writes. Plain physics — declarations, derivatives,
 //! outputs — with no FMI, no XML and no unsafe code. The runtime derives the rest.
 
-use crate::values::{Derivatives, Knowns, Outputs};
+use crate::values::{Derivatives, InitialStates, Knowns, Outputs};
 use crate::variables::Declarations;
 
 /// How `fmi2DoStep` integrates the model's ODE (see `integrate.rs`).
@@ -74,6 +74,12 @@ pub trait Model: Sized + Send + Sync + 'static {
         None
     }
 
+    /// The initial values of the states declared with `Declarations::calculated_state`, from
+    /// the parameters and the inputs at the start time (`k` holds them; the calculated states
+    /// themselves read NaN there). Called during initialization; every calculated state must be
+    /// given a finite value, or initialization fails naming it. Other states keep their start.
+    fn initial_states(&self, _k: &Knowns, _x0: &mut InitialStates) {}
+
     /// The state derivatives dx/dt at the knowns `k`.
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives);
 
@@ -98,6 +104,36 @@ pub fn evaluate<M: Model>(
     derivatives.fill(0.0);
     model.derivatives(&k, &mut Derivatives::new(derivatives));
     model.outputs(&k, &mut Outputs::new(calculated));
+}
+
+/// Fills in the calculated states of `states` (which holds the start values of the others)
+/// through `Model::initial_states`; the message names a state left without a finite value.
+pub fn initialize_states<M: Model>(
+    model: &M,
+    table: &crate::variables::VariableTable,
+    time: f64,
+    known: &[f64],
+    integers: &[i32],
+    booleans: &[bool],
+    states: &mut [f64],
+) -> Result<(), String> {
+    let calculated: Vec<usize> = table.calculated_states().collect();
+    if calculated.is_empty() {
+        return Ok(());
+    }
+    for &s in &calculated {
+        states[s] = f64::NAN;
+    }
+    let starts = states.to_vec();
+    let k = Knowns::new(time, known, &starts, integers, booleans);
+    model.initial_states(&k, &mut InitialStates::new(states));
+    for &s in &calculated {
+        if !states[s].is_finite() {
+            let name = &table.variables[table.state_value_reference[s] as usize].name;
+            return Err(format!("the model computed no finite initial value for the state '{name}' (got {})", states[s]));
+        }
+    }
+    Ok(())
 }
 
 /// What the runtime itself declares beside a model's own variables.

@@ -68,3 +68,45 @@ impl Model for Switch {
     }
     fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
 }
+
+/// A body relaxing to `u + p/g`: C dT/dt = p - g (T - u). Its temperature T starts either at the
+/// input u (`steady` false) or at the steady value u + p/g (`steady` true): a calculated state.
+pub struct Relax {
+    p: Parameter,
+    g: Parameter,
+    steady: crate::variables::BooleanParameter,
+    u: Input,
+    t: State,
+    y: Output,
+}
+
+impl Model for Relax {
+    fn info() -> ModelInfo {
+        ModelInfo {
+            name: "Relax",
+            description: "a calculated initial state",
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 1.0, step_size: 0.1 },
+            solver: Solver::ExplicitRungeKutta,
+            documentation: "",
+        }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        Relax {
+            p: d.parameter("p", 3.0, "W").describe("heat flow"),
+            g: d.parameter("g", 2.0, "W/K").min(0.0).describe("conductance (0 makes the steady start impossible)"),
+            steady: d.boolean_parameter("steady", true).describe("start at the steady state"),
+            u: d.input("u", 10.0, "K").describe("ambient"),
+            t: d.calculated_state("T", "K").describe("temperature"),
+            y: d.output("y", "K").describe("the temperature"),
+        }
+    }
+    fn initial_states(&self, k: &Knowns, x0: &mut crate::values::InitialStates) {
+        x0[self.t] = if k[self.steady] { k[self.u] + k[self.p] / k[self.g] } else { k[self.u] };
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        der[self.t] = k[self.p] - k[self.g] * (k[self.t] - k[self.u]);
+    }
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        out[self.y] = k[self.t];
+    }
+}

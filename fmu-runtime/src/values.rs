@@ -138,3 +138,27 @@ impl IndexMut<State> for Derivatives<'_> {
         &mut self.rates[x.state]
     }
 }
+
+/// Where `Model::initial_states` writes the initial values of its calculated states.
+pub struct InitialStates<'a> {
+    pub(crate) states: &'a mut [f64],
+}
+
+impl<'a> InitialStates<'a> {
+    pub fn new(states: &'a mut [f64]) -> Self {
+        InitialStates { states }
+    }
+}
+
+impl IndexMut<State> for InitialStates<'_> {
+    fn index_mut(&mut self, x: State) -> &mut f64 {
+        &mut self.states[x.state]
+    }
+}
+
+impl Index<State> for InitialStates<'_> {
+    type Output = f64;
+    fn index(&self, x: State) -> &f64 {
+        &self.states[x.state]
+    }
+}

@@ -263,6 +263,20 @@ impl VariableTable {
         self.variables.iter().find(|v| v.name == name)
     }
 
+    /// The state indices of the states declared with `Declarations::calculated_state`.
+    pub fn calculated_states(&self) -> impl Iterator<Item = usize> + '_ {
+        self.state_value_reference
+            .iter()
+            .enumerate()
+            .filter(|(_, vr)| self.variables[**vr as usize].initial == Some(Initial::Calculated))
+            .map(|(s, _)| s)
+    }
+
+    /// The state index of a variable, if it is a continuous state.
+    pub fn state_index(&self, var: &Variable) -> Option<usize> {
+        self.state_value_reference.iter().position(|vr| *vr == var.value_reference)
+    }
+
     /// Nominal value of each state (1 where undeclared), used to scale absolute tolerances.
     pub fn state_nominals(&self) -> Vec<f64> {
         self.state_value_reference
@@ -418,18 +432,23 @@ impl Declarations {
     /// A continuous state with its initial value (settable before initialization). Also
     /// declares `der(<name>)`, in the unit of the state per second.
     pub fn state(&mut self, name: &str, start: f64, unit: &str) -> RealBuilder<'_, State> {
+        self.state_with(name, Some(start), unit)
+    }
+
+    /// A continuous state whose initial value the model computes at initialization, in
+    /// `Model::initial_states`, from the parameters and inputs (a steady state, a temperature
+    /// equal to the ambient one). FMI `initial="calculated"`: no start value, not settable before
+    /// initialization, listed among the InitialUnknowns. Also declares `der(<name>)`.
+    pub fn calculated_state(&mut self, name: &str, unit: &str) -> RealBuilder<'_, State> {
+        self.state_with(name, None, unit)
+    }
+
+    fn state_with(&mut self, name: &str, start: Option<f64>, unit: &str) -> RealBuilder<'_, State> {
         let k = self.next_known();
         let s = self.table.n_states;
         self.table.n_states += 1;
-        let pos = self.real(
-            name,
-            unit,
-            Causality::Local,
-            Variability::Continuous,
-            Some(Initial::Exact),
-            Some(start),
-            Slot::Known(k),
-        );
+        let initial = if start.is_some() { Initial::Exact } else { Initial::Calculated };
+        let pos = self.real(name, unit, Causality::Local, Variability::Continuous, Some(initial), start, Slot::Known(k));
         let vr = self.table.variables[pos].value_reference;
         self.table.state_known_index.push(k);
         self.table.state_value_reference.push(vr);
