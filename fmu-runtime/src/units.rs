@@ -52,6 +52,8 @@ const KNOWN: &[(&str, BaseUnit)] = &[
     ("J", BaseUnit::new(1, 2, -2, 0, 0, 0)),
     ("J/K", BaseUnit::new(1, 2, -2, 0, -1, 0)),
     ("W/K", BaseUnit::new(1, 2, -3, 0, -1, 0)),
+    ("J/(kg.K)", BaseUnit::new(0, 2, -2, 0, -1, 0)),
+    ("K.s", BaseUnit::new(0, 0, 1, 0, 1, 0)),
     ("N", BaseUnit::new(1, 1, -2, 0, 0, 0)),
     ("Pa", BaseUnit::new(1, -1, -2, 0, 0, 0)),
     ("N.m", BaseUnit::new(1, 2, -2, 0, 0, 0)),
@@ -85,6 +87,7 @@ pub fn derivative_unit(unit: &str) -> String {
         "rad" => "rad/s".to_string(),
         "rad/s" => "rad/s2".to_string(),
         "s" => "1".to_string(),
+        "K.s" => "K".to_string(),
         u => format!("{u}/s"),
     }
 }

@@ -9,9 +9,11 @@ pub mod electrical;
 pub mod induction;
 pub mod mechanical;
 pub mod sources;
+pub mod thermal;
 
 pub use control::{PiController, SecondOrderFilter, SpeedRamp};
 pub use electrical::{Capacitor, Inductor, Resistor};
 pub use induction::{Fluxes, InductionMachine};
 pub use mechanical::{FanLoad, Inertia, Reducer, TorsionSpring};
 pub use sources::SineVoltage;
+pub use thermal::{ThermalConductance, ThermalNode};

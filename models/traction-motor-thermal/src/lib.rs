@@ -1,0 +1,263 @@
+//! TractionMotorThermal: how long the V150's traction motors could carry their 1 MW overload
+//! before the winding insulation reached its limit (chapter section 3.5.1, questions 1-6).
+//!
+//! The chapter's data: 700 kW nominal, C_nom = 1400 N m at 4800 rpm, 5 kW of Joule losses at
+//! that point, a 140 K winding rise above a 40 C ambient; the record run overloaded the motor to
+//! 1 MW at the same maximal speed. Torque is proportional to current, so the Joule losses scale
+//! with the square of torque: P_J = P_J,nom (C / C_nom)^2 (question 2).
+//!
+//! Two modelling levels (question 3), chosen by the structural parameter `nodes`:
+//! * `nodes = 1`: the whole motor is one body, C dT/dt = P_J - G (T - T_amb), with
+//!   C = C_winding + C_iron and G = P_J,nom / 140 K (the nominal point, question 4);
+//! * `nodes = 2` (Figure 3.23): the winding (copper) and the iron core (with the rest of the
+//!   motor) are two nodes; the losses heat the winding, which passes its heat through the slot
+//!   insulation (G_wi) to the iron, which gives it to the cooling air (G_ia). The nominal 140 K
+//!   splits into `dT_winding_iron_nominal` across the insulation and the rest from iron to air.
+//!
+//! Both levels have the same total heat capacity and the same steady state (G_wi and G_ia in
+//! series equal G), so they differ only in how fast the winding heats: the question the chapter
+//! asks (question 6).
+
+mod documentation;
+
+use components::{ThermalConductance, ThermalNode};
+use fmu_runtime::prelude::*;
+
+/// Where the Joule losses come from (`heat_source`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum HeatSource {
+    /// The built-in operating point: `P_mechanical_step` at `speed_max` from `t_step` on.
+    PowerStep,
+    /// The input `torque_in` (another FMU's torque): P_J = P_J,nom (C / C_nom)^2.
+    TorqueInput,
+    /// The input `P_joule_in`, in W.
+    LossInput,
+}
+
+impl HeatSource {
+    fn of(code: i32) -> HeatSource {
+        match code {
+            2 => HeatSource::TorqueInput,
+            3 => HeatSource::LossInput,
+            _ => HeatSource::PowerStep,
+        }
+    }
+}
+
+pub struct TractionMotorThermal {
+    // The chapter's nominal point.
+    torque_nominal: Parameter,
+    speed_max: Parameter,
+    joule_losses_nominal: Parameter,
+    winding_rise_nominal: Parameter,
+    // The motor's make-up (chosen, see the documentation).
+    mass_winding: Parameter,
+    specific_heat_winding: Parameter,
+    mass_iron: Parameter,
+    specific_heat_iron: Parameter,
+    winding_iron_drop_nominal: Parameter,
+    // The experiment.
+    mechanical_power_step: Parameter,
+    t_step: Parameter,
+    insulation_limit: Parameter,
+    nodes: IntegerParameter,
+    heat_source: IntegerParameter,
+    start: IntegerParameter,
+    torque_in: Input,
+    joule_losses_in: Input,
+    ambient: Input,
+    t_winding: State,
+    t_iron: State,
+    over_limit: State,
+    time_below_limit: State,
+    y_t_winding: Output,
+    y_t_iron: Output,
+    y_margin: Output,
+    y_time_to_limit: Output,
+    y_limit_reached: Output,
+    y_torque: Output,
+    y_losses: Output,
+    c_winding: Local,
+    c_iron: Local,
+    c_total: Local,
+    g_winding_iron: Local,
+    g_iron_ambient: Local,
+    g_total: Local,
+    tau_one_node: Local,
+}
+
+/// The thermal network at the current parameter values.
+struct Network {
+    winding: ThermalNode,
+    iron: ThermalNode,
+    winding_to_iron: ThermalConductance,
+    iron_to_ambient: ThermalConductance,
+}
+
+impl Network {
+    /// The motor as one body: capacities add, conductances in series.
+    fn one_body(&self) -> (ThermalNode, ThermalConductance) {
+        (self.winding.merged_with(&self.iron), self.winding_to_iron.in_series_with(&self.iron_to_ambient))
+    }
+}
+
+impl TractionMotorThermal {
+    fn network(&self, k: &Knowns) -> Network {
+        let losses = k[self.joule_losses_nominal];
+        let insulation_drop = k[self.winding_iron_drop_nominal];
+        Network {
+            winding: ThermalNode::of_mass(k[self.mass_winding], k[self.specific_heat_winding]),
+            iron: ThermalNode::of_mass(k[self.mass_iron], k[self.specific_heat_iron]),
+            winding_to_iron: ThermalConductance::from_operating_point(losses, insulation_drop),
+            iron_to_ambient: ThermalConductance::from_operating_point(losses, k[self.winding_rise_nominal] - insulation_drop),
+        }
+    }
+
+    fn two_nodes(&self, k: &Knowns) -> bool {
+        k[self.nodes] == 2
+    }
+
+    /// The motor torque, N m (question 1 for the built-in step: C = P / w_max).
+    fn torque_n_m(&self, k: &Knowns) -> f64 {
+        match HeatSource::of(k[self.heat_source]) {
+            HeatSource::PowerStep if k.time() >= k[self.t_step] => k[self.mechanical_power_step] / k[self.speed_max],
+            HeatSource::PowerStep => 0.0,
+            HeatSource::TorqueInput => k[self.torque_in],
+            HeatSource::LossInput => 0.0,
+        }
+    }
+
+    /// The Joule losses, W: P_J,nom (C / C_nom)^2 (question 2), or the loss input.
+    fn joule_losses_w(&self, k: &Knowns) -> f64 {
+        match HeatSource::of(k[self.heat_source]) {
+            HeatSource::LossInput => k[self.joule_losses_in],
+            _ => k[self.joule_losses_nominal] * (self.torque_n_m(k) / k[self.torque_nominal]).powi(2),
+        }
+    }
+}
+
+impl Model for TractionMotorThermal {
+    fn info() -> ModelInfo {
+        ModelInfo {
+            name: "TractionMotorThermal",
+            description: "Winding and iron temperatures of the TGV V150 traction motor (700 kW nominal, 1 MW overload) with a one- or two-node thermal model, and the time to reach the insulation limit (chapter 3, section 3.5.1)",
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 20_000.0, step_size: 10.0 },
+            solver: Solver::ExplicitRungeKutta,
+            documentation: documentation::HTML,
+        }
+    }
+
+    fn declare(d: &mut Declarations) -> Self {
+        let rpm = std::f64::consts::PI / 30.0;
+        TractionMotorThermal {
+            torque_nominal: d.parameter("torque_nominal", 1400.0, "N.m").positive().describe("Nominal torque C_nom (section 3.5.1: 1400 N m at 4800 rpm)"),
+            speed_max: d.parameter("speed_max", 4800.0 * rpm, "rad/s").positive().describe("Nominal and maximal speed, 4800 rpm (section 3.5.1); the overload keeps it (question 1)"),
+            joule_losses_nominal: d.parameter("P_joule_nominal", 5000.0, "W").positive().describe("Joule losses at the nominal point (section 3.5.1: 5 kW)"),
+            winding_rise_nominal: d.parameter("dT_winding_nominal", 140.0, "K").positive().describe("Steady winding temperature rise over ambient at the nominal point (section 3.5.1: 140 K)"),
+            mass_winding: d.parameter("m_winding", 80.0, "kg").positive().describe("Mass of the copper winding (chosen: about 11 % of a 700 kg motor, see documentation)"),
+            specific_heat_winding: d.parameter("c_winding", 385.0, "J/(kg.K)").positive().describe("Specific heat of copper"),
+            mass_iron: d.parameter("m_iron", 620.0, "kg").positive().describe("Mass of the rest of the motor: stator core, rotor, magnets, frame (chosen, see documentation)"),
+            specific_heat_iron: d.parameter("c_iron", 460.0, "J/(kg.K)").positive().describe("Specific heat of electrical steel and iron"),
+            winding_iron_drop_nominal: d.parameter("dT_winding_iron_nominal", 60.0, "K").positive().describe("Two-node model: part of the nominal 140 K rise across the slot insulation, winding to iron (chosen, see documentation); must be below dT_winding_nominal"),
+            mechanical_power_step: d.parameter("P_mechanical_step", 1.0e6, "W").min(0.0).tunable().describe("Built-in operating point (heat_source = 1): mechanical power from t_step on, at speed_max (section 3.5.1: the 1 MW overload)"),
+            t_step: d.parameter("t_step", 0.0, "s").min(0.0).describe("Built-in operating point: time of the loss step (question 5: losses as a step)"),
+            insulation_limit: d.parameter("T_insulation_limit", 453.15, "K").positive().describe("Winding insulation limit: default 180 C, the nominal steady winding temperature (40 C + 140 K)"),
+            nodes: d.integer_parameter("nodes", 2).range(1, 2).describe("Modelling level (question 3): 1 = whole motor at one temperature, 2 = winding and iron core (Figure 3.23)"),
+            heat_source: d.integer_parameter("heat_source", 1).range(1, 3).describe("Joule losses from: 1 = built-in power step P_mechanical_step at speed_max, 2 = input torque_in (P_J = P_J,nom (C/C_nom)^2), 3 = input P_joule_in"),
+            start: d.integer_parameter("initial_state", 1).range(1, 2).describe("Initial temperatures: 1 = cold (everything at the ambient temperature), 2 = the nominal steady state (winding at ambient + dT_winding_nominal)"),
+            torque_in: d.input("torque_in", 0.0, "N.m").describe("Motor torque when heat_source = 2 (e.g. another FMU's torque output)"),
+            joule_losses_in: d.input("P_joule_in", 0.0, "W").describe("Joule losses when heat_source = 3"),
+            ambient: d.input("T_ambient", 313.15, "K").min(0.0).describe("Ambient (cooling air) temperature (section 3.5.1: 40 C)"),
+            t_winding: d.calculated_state("T_winding_state", "K").nominal(400.0).describe("Winding temperature (state; starts at ambient or at the nominal steady state, see initial_state)"),
+            t_iron: d.calculated_state("T_iron_state", "K").nominal(400.0).describe("Iron core temperature (state; equals the winding's in the one-node model)"),
+            over_limit: d.state("over_limit_integral", 0.0, "K.s").nominal(1000.0).describe("Integral of the winding temperature above the insulation limit: positive once the limit has been exceeded (latches time_to_limit)"),
+            time_below_limit: d.state("time_below_limit", 0.0, "s").nominal(1000.0).describe("Time spent before the winding first reached the insulation limit"),
+            y_t_winding: d.output("T_winding", "K").describe("Winding temperature"),
+            y_t_iron: d.output("T_iron", "K").describe("Iron core temperature (one-node model: the body temperature)"),
+            y_margin: d.output("margin_to_limit", "K").describe("T_insulation_limit - T_winding: negative beyond the limit"),
+            y_time_to_limit: d.output("time_to_limit", "s").describe("Time from the start of the simulation at which the winding first reached T_insulation_limit; while limit_reached = 0, the time elapsed so far (a lower bound)"),
+            y_limit_reached: d.output("limit_reached", "1").describe("1 once the winding has reached T_insulation_limit, else 0"),
+            y_torque: d.output("torque", "N.m").describe("Motor torque producing the losses (0 with heat_source = 3, where the losses are given directly)"),
+            y_losses: d.output("P_joule", "W").describe("Joule losses heating the winding"),
+            c_winding: d.calculated_parameter("C_winding", "J/K").describe("Heat capacity of the winding, m_winding c_winding"),
+            c_iron: d.calculated_parameter("C_iron", "J/K").describe("Heat capacity of the iron node, m_iron c_iron"),
+            c_total: d.calculated_parameter("C_total", "J/K").describe("Heat capacity of the whole motor (one-node model)"),
+            g_winding_iron: d.calculated_parameter("G_winding_iron", "W/K").describe("Winding-to-iron conductance, P_joule_nominal / dT_winding_iron_nominal"),
+            g_iron_ambient: d.calculated_parameter("G_iron_ambient", "W/K").describe("Iron-to-ambient conductance, P_joule_nominal / (dT_winding_nominal - dT_winding_iron_nominal)"),
+            g_total: d.calculated_parameter("G_total", "W/K").describe("Motor-to-ambient conductance of the one-node model, P_joule_nominal / dT_winding_nominal"),
+            tau_one_node: d.calculated_parameter("time_constant_one_node", "s").describe("Time constant of the one-node model, C_total / G_total"),
+        }
+    }
+
+    fn check(&self, k: &Knowns) -> Result<(), String> {
+        if k[self.winding_iron_drop_nominal] >= k[self.winding_rise_nominal] {
+            return Err(format!(
+                "dT_winding_iron_nominal = {} K must be below dT_winding_nominal = {} K (the iron must be warmer than the air)",
+                k[self.winding_iron_drop_nominal], k[self.winding_rise_nominal]
+            ));
+        }
+        Ok(())
+    }
+
+    fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
+        (HeatSource::of(k[self.heat_source]) == HeatSource::PowerStep && k[self.t_step] > after).then_some(k[self.t_step])
+    }
+
+    fn initial_states(&self, k: &Knowns, x0: &mut InitialStates) {
+        let ambient = k[self.ambient];
+        let (winding, iron) = if k[self.start] == 2 {
+            // The nominal steady state: the nominal losses cross both conductances.
+            let n = self.network(k);
+            let losses = k[self.joule_losses_nominal];
+            let iron = ambient + n.iron_to_ambient.steady_drop_k(losses);
+            let winding = iron + n.winding_to_iron.steady_drop_k(losses);
+            (winding, if self.two_nodes(k) { iron } else { winding })
+        } else {
+            (ambient, ambient)
+        };
+        x0[self.t_winding] = winding;
+        x0[self.t_iron] = iron;
+    }
+
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        let n = self.network(k);
+        let (winding, iron, ambient) = (k[self.t_winding], k[self.t_iron], k[self.ambient]);
+        let losses = self.joule_losses_w(k);
+        if self.two_nodes(k) {
+            let through_insulation = n.winding_to_iron.heat_flow_w(winding, iron);
+            der[self.t_winding] = n.winding.temperature_rate_k_per_s(losses - through_insulation);
+            der[self.t_iron] = n.iron.temperature_rate_k_per_s(through_insulation - n.iron_to_ambient.heat_flow_w(iron, ambient));
+        } else {
+            let (body, to_ambient) = n.one_body();
+            let rate = body.temperature_rate_k_per_s(losses - to_ambient.heat_flow_w(winding, ambient));
+            der[self.t_winding] = rate;
+            der[self.t_iron] = rate;
+        }
+        let limit = k[self.insulation_limit];
+        der[self.over_limit] = (winding - limit).max(0.0);
+        der[self.time_below_limit] = if winding < limit && k[self.over_limit] <= 0.0 { 1.0 } else { 0.0 };
+    }
+
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        let n = self.network(k);
+        let (body, to_ambient) = n.one_body();
+        let winding = k[self.t_winding];
+        let limit = k[self.insulation_limit];
+        out[self.y_t_winding] = winding;
+        out[self.y_t_iron] = k[self.t_iron];
+        out[self.y_margin] = limit - winding;
+        out[self.y_time_to_limit] = k[self.time_below_limit];
+        out[self.y_limit_reached] = if winding >= limit || k[self.over_limit] > 0.0 { 1.0 } else { 0.0 };
+        out[self.y_torque] = self.torque_n_m(k);
+        out[self.y_losses] = self.joule_losses_w(k);
+        out[self.c_winding] = n.winding.heat_capacity_j_per_k;
+        out[self.c_iron] = n.iron.heat_capacity_j_per_k;
+        out[self.c_total] = body.heat_capacity_j_per_k;
+        out[self.g_winding_iron] = n.winding_to_iron.conductance_w_per_k;
+        out[self.g_iron_ambient] = n.iron_to_ambient.conductance_w_per_k;
+        out[self.g_total] = to_ambient.conductance_w_per_k;
+        out[self.tau_one_node] = to_ambient.time_constant_s(&body);
+    }
+}
+
+fmu_runtime::export_fmu!(TractionMotorThermal);
