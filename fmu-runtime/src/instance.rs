@@ -506,10 +506,9 @@ impl<M: Model> Instance<M> {
         let mut updates = Vec::with_capacity(vrs.len());
         for ((vr, order), value) in vrs.iter().zip(orders).zip(values) {
             let var = self.variable(*vr, BaseType::Real)?;
-            let Slot::Known(i) = var.slot else { unreachable!("a Real known or computed") };
-            if var.causality != crate::variables::Causality::Input {
+            let (Slot::Known(i), crate::variables::Causality::Input) = (var.slot, var.causality) else {
                 return Err(Failure::error(format!("'{}' is not an input", var.name)));
-            }
+            };
             if !(1..=2).contains(order) {
                 return Err(Failure::error(format!("derivative order {order} of '{}': this FMU takes orders 1 and 2", var.name)));
             }

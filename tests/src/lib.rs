@@ -31,6 +31,7 @@
 //! Limitation: the logger callback is declared non-variadic (stable Rust cannot define a
 //! C-variadic function); see [`ffi::LoggerFn`].
 
+pub mod dist;
 pub mod error;
 pub mod ffi;
 pub mod fmu;

@@ -4,27 +4,10 @@
 //!
 //! `FMU_DIST_DIR` overrides the folder (default `<workspace>/dist`).
 
-use std::path::PathBuf;
 use std::sync::Arc;
 
+use fmi_host::dist::every_fmu;
 use fmi_host::{Causality, Fmu, Instance, Status, ValueReference, VariableType};
-
-fn dist_dir() -> PathBuf {
-    std::env::var_os("FMU_DIST_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("dist"))
-}
-
-fn every_fmu() -> Vec<Arc<Fmu>> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(dist_dir())
-        .expect("dist/ exists: run `cargo run --release -p build-fmus` first")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "fmu"))
-        .collect();
-    paths.sort();
-    assert!(!paths.is_empty(), "no FMU in {:?}", dist_dir());
-    paths.iter().map(|p| Fmu::load(p).unwrap_or_else(|e| panic!("{p:?}: {e}"))).collect()
-}
 
 /// The experiment each FMU is exercised with: its default experiment, cut to at most 400
 /// communication steps so the whole suite stays fast.
