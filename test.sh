@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Everything CI runs, in one command (README: "Run every test"):
 #   1. builds every FMU once, in release, into dist/ (the tests load these very files),
-#   2. runs the Rust tests (unit tests and the native FMI host tests against dist/*.fmu),
+#   2. runs the Rust tests (unit tests and the native FMI host tests against dist/*.fmu), then
+#      a subset of them under valgrind memcheck (tests/valgrind.sh),
 #   3. creates the Python virtual environment .venv from tests/requirements.txt (pinned),
 #   4. runs the independent checks with pytest (fmpy validate, fmutool -check, fmpy simulate).
 set -euo pipefail
@@ -12,6 +13,9 @@ cargo run --release -p build-fmus
 
 echo "== Rust tests"
 cargo test --release --workspace
+
+echo "== valgrind memcheck (tests/valgrind.sh)"
+tests/valgrind.sh
 
 echo "== Python environment (.venv, tests/requirements.txt)"
 if [ ! -x .venv/bin/python ]; then

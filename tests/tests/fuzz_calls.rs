@@ -649,3 +649,59 @@ fn random_call_sequences_never_crash_hang_or_fail_silently() {
     }
     println!("random FMI call sequences (crashes 0, hangs 0, illegal statuses 0, silent errors 0):\n{}", report.join("\n"));
 }
+
+/// Damage to a valid serialized state: 1-8 bit flips anywhere, or a truncation.
+fn any_corruption() -> impl Strategy<Value = (Vec<usize>, Option<usize>)> {
+    prop_oneof![
+        3 => proptest::collection::vec(any::<usize>(), 1..9).prop_map(|flips| (flips, None)),
+        1 => any::<usize>().prop_map(|cut| (Vec::new(), Some(cut))),
+    ]
+}
+
+#[test]
+fn corrupted_serialized_states_are_refused() {
+    const CASES: u32 = 1000;
+    let mut report = Vec::new();
+    for fmu in every_fmu() {
+        let target = Target::of(&fmu);
+        let mut inst = target.instantiate("source", false, false, true);
+        target.reference_run(&mut inst, false).unwrap_or_else(|e| panic!("{}: {e}", target.name()));
+        let (status, state) = inst.get_fmu_state();
+        assert_eq!(status, Status::OK);
+        let (status, valid) = inst.serialize_fmu_state(&state.unwrap());
+        assert_eq!(status, Status::OK);
+        let receiver = std::cell::RefCell::new(target.instantiate("receiver", false, false, true));
+        let mut runner = TestRunner::new_with_rng(
+            Config { cases: CASES, failure_persistence: None, ..Config::default() },
+            TestRng::from_seed(RngAlgorithm::ChaCha, &[7u8; 32]),
+        );
+        let result = runner.run(&any_corruption(), |(flips, cut)| {
+            let mut bytes = valid.clone();
+            for f in &flips {
+                let bit = f % (bytes.len() * 8);
+                bytes[bit / 8] ^= 1 << (bit % 8);
+            }
+            if let Some(cut) = cut {
+                bytes.truncate(cut % bytes.len());
+            }
+            if bytes == valid {
+                return Ok(()); // flips that cancel out leave a valid state
+            }
+            let mut receiver = receiver.borrow_mut();
+            let mark = receiver.log().len();
+            let (status, state) = receiver.deserialize_fmu_state(&bytes);
+            prop_assert_eq!(status, Status::ERROR, "{}: damaged bytes accepted ({} flips, cut {:?})", target.name(), flips.len(), cut);
+            prop_assert!(state.is_none());
+            prop_assert!(receiver.log().has_status_since(mark, Status::ERROR), "{}: refusal not logged", target.name());
+            Ok(())
+        });
+        if let Err(e) = result {
+            panic!("{e}");
+        }
+        // The intact bytes still load: the refusals were about the damage.
+        let (status, _) = receiver.borrow_mut().deserialize_fmu_state(&valid);
+        assert_eq!(status, Status::OK, "{}", target.name());
+        report.push(format!("  {:<22} {CASES} damaged copies of a {}-byte state refused", target.name(), valid.len()));
+    }
+    println!("corrupted serialized states:\n{}", report.join("\n"));
+}

@@ -17,10 +17,23 @@ macro_rules! export_fmu {
             use std::os::raw::c_char;
             type M = $model;
 
+            static EXPORTED: $crate::fmi2::ExportedCell = $crate::fmi2::ExportedCell::new();
+
             fn exported() -> &'static $crate::fmi2::Exported {
-                static EXPORTED: std::sync::OnceLock<$crate::fmi2::Exported> = std::sync::OnceLock::new();
                 EXPORTED.get_or_init($crate::fmi2::Exported::of::<M>)
             }
+
+            /// Frees the description when the library is unloaded (or the process exits).
+            #[cfg(target_os = "linux")]
+            #[used]
+            #[link_section = ".fini_array"]
+            static RELEASE_AT_UNLOAD: extern "C" fn() = {
+                extern "C" fn release() {
+                    // SAFETY: .fini_array runs when nothing of this library can be called again.
+                    unsafe { EXPORTED.release() }
+                }
+                release
+            };
 
             fn guarded_text(pick: fn(&$crate::fmi2::Exported) -> *const c_char) -> *const c_char {
                 std::panic::catch_unwind(|| pick(exported())).unwrap_or(std::ptr::null())

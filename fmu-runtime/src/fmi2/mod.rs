@@ -6,10 +6,12 @@ pub mod functions;
 pub mod types;
 
 use std::ffi::CString;
+use std::ptr;
+use std::sync::atomic::{AtomicPtr, Ordering};
 
 use crate::model::Model;
 
-/// What a model's library says about itself, computed once per process: the generated
+/// What a model's library says about itself, computed once per library load: the generated
 /// modelDescription.xml, its guid (a hash of its content), and the documentation page.
 pub struct Exported {
     pub model_identifier: CString,
@@ -27,5 +29,59 @@ impl Exported {
             model_description: crate::log::to_c_string(&description.xml),
             documentation: crate::log::to_c_string(&crate::documentation::html::<M>(&description)),
         }
+    }
+}
+
+/// Where a model library keeps its [`Exported`] description: made on first use, and freed when
+/// the library is unloaded (`dlclose`), so a master that loads and unloads an FMU many times
+/// loses no memory. (A `OnceLock` static would never be freed: statics have no destructor.)
+pub struct ExportedCell {
+    ptr: AtomicPtr<Exported>,
+}
+
+impl ExportedCell {
+    pub const fn new() -> Self {
+        ExportedCell { ptr: AtomicPtr::new(ptr::null_mut()) }
+    }
+
+    /// The description, made by `make` on the first call (if two threads race, one result is
+    /// kept and the other dropped).
+    pub fn get_or_init(&self, make: fn() -> Exported) -> &Exported {
+        let current = self.ptr.load(Ordering::Acquire);
+        if !current.is_null() {
+            // SAFETY: a non-null pointer came from Box::into_raw below and is freed only by
+            // `release`, after which no code of this library runs.
+            return unsafe { &*current };
+        }
+        let fresh = Box::into_raw(Box::new(make()));
+        match self.ptr.compare_exchange(ptr::null_mut(), fresh, Ordering::AcqRel, Ordering::Acquire) {
+            // SAFETY: as above; `fresh` is now the stored pointer.
+            Ok(_) => unsafe { &*fresh },
+            Err(existing) => {
+                // SAFETY: `fresh` was never shared; `existing` is the stored pointer.
+                unsafe {
+                    drop(Box::from_raw(fresh));
+                    &*existing
+                }
+            }
+        }
+    }
+
+    /// Frees the description.
+    ///
+    /// # Safety
+    /// Only from the library's unload hook (`.fini_array`), when no function of the library
+    /// can run any more: references handed out by `get_or_init` dangle afterwards.
+    pub unsafe fn release(&self) {
+        let p = self.ptr.swap(ptr::null_mut(), Ordering::AcqRel);
+        if !p.is_null() {
+            drop(Box::from_raw(p));
+        }
+    }
+}
+
+impl Default for ExportedCell {
+    fn default() -> Self {
+        Self::new()
     }
 }
