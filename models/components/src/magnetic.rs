@@ -121,8 +121,8 @@ impl RlWinding {
 }
 
 /// The air gap whose reluctance depends on the twist angle (question 7's new component, for
-/// ring B): `teeth` teeth of angular width `tooth_width_rad` on the ring fixed to one shaft face
-/// as many teeth on the sleeve fixed to the other across a radial gap `gap_length_m` at radius
+/// ring B): `teeth` teeth of angular width `tooth_width_rad` on the ring fixed to one end of the
+/// torsion bar face as many teeth on the ring fixed to the other across a radial gap `gap_length_m` at radius
 /// `radius_m`, over an axial length `axial_length_m`. The twist slides the teeth past each other:
 /// the overlap of each tooth pair is rest_overlap + twist (between 0 and the tooth width), the
 /// gap's section teeth x overlap x radius x axial length, and R = gap / (mu0 section). Fringing

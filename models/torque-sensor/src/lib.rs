@@ -13,8 +13,9 @@
 //!   iron of yoke and ring (b and d) in series. With infinitely permeable iron (question 4)
 //!   L = N^2 / (2 ln(r2/r1) / (2 pi mu0 b)) = pi mu0 b N^2 / ln(r2/r1) = 82.84 mH for the
 //!   chapter's r1 = 15 mm, r2 = 16.5 mm, b = 2 mm, N = 1000. Part A is Figure 3.26 as is: the
-//!   reference arm. Part B (question 7) adds the new component, a toothed air gap between ring B
-//!   and a sleeve on the other shaft whose overlap (so its section) follows the twist.
+//!   reference arm. Part B (question 7) adds the new component, a toothed air gap between the
+//!   teeth of ring B and those of ring A; the rings sit on the two ends of the torsion bar, so
+//!   the teeth's overlap (the gap's section) follows the twist, the rings' relative angle.
 //! * The windings are modelled with their flux as state (Ampere and Lenz, question 1), so ring
 //!   B's time-varying reluctance is handled exactly. Beside winding A, an R-L impedance with the
 //!   inductance of question 4 (question 5) is driven the same way, for comparison.
@@ -28,13 +29,15 @@
 //!
 //! Chosen values (the chapter gives r1, r2, b, N, R_winding = 30 Ohm, the 5 kHz supply, mu0):
 //! * Torsion bar 2 N m/deg = 114.59 N m/rad, full scale +/- 8 N m (+/- 4 deg), stops at +/- 5 deg:
-//!   usual for EPS torque sensors (a steel bar, G = 80 GPa, 4.6 mm in diameter and 31 mm long).
+//!   usual for EPS torque sensors (a steel bar, G = 80 GPa, 4.6 mm in diameter and 30.7 mm long).
 //! * Soft iron: a ferrite (mu_r = 2000, no eddy currents at 5 kHz) over a 30 mm path of section
 //!   2 pi r1 b: 0.52 % of the gaps' reluctance, so question 4's "infinite permeability" holds to
 //!   half a percent.
 //! * Ring B's teeth: 8 teeth of half the 45 deg pitch (22.5 deg) at 12 mm radius, 5 mm long,
 //!   0.3 mm radial gap, half-overlapping at rest (11.25 deg), so the overlap stays inside the
-//!   teeth over the +/- 5 deg of the stops. Not tuned for linearity: the raw output is what it is.
+//!   teeth over the +/- 5 deg of the stops. Not tuned for linearity: the raw output is what it is
+//!   (offset 0.232 V, slope -10.2 mV/(N m), 11 % of its span away from a straight line), which is
+//!   why the conditioning inverts the characteristic rather than fitting a line.
 //! * Supply 5 V amplitude at 5 kHz; R_bridge = 2.2 kOhm, the E12 value nearest the arm
 //!   impedance w L_B(0) - R_winding = 2.11 kOhm that maximizes the in-phase sensitivity.
 //! * Low-pass: second-order Butterworth at 200 Hz (the 10 kHz ripple is attenuated 2500x; the
