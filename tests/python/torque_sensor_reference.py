@@ -12,6 +12,7 @@ the FMU.
       L_A = N^2 / (2 R_gap + l_iron / (mu0 mu_r 2 pi r1 b)).
 * Ring B adds the toothed gap: section teeth * (rest_overlap + twist) * tooth_radius * tooth_length,
   length tooth_gap: L_B(twist) = N^2 / (R_A + tooth_gap / (mu0 section)). Twist = torque / K (within the stops).
+  With arrangement = 2 (differential) ring A's circuit crosses the same toothed gap at the opposite twist.
 * Voltage step U on a winding alone (R_bridge = 0, question 5): i(t) = U/R (1 - exp(-t R / L)).
 * Steady state under the carrier U sin(w t) (phasors, the supply as the phase reference):
       I_X = U / (R_bridge + R_winding + j w L_X),   B = R_bridge (I_B - I_A)   (bridge voltage),
@@ -41,7 +42,9 @@ def reluctance_a(p: dict) -> float:
     return 2 * gap_reluctance(p) + iron
 
 
-def inductance_a(p: dict) -> float:
+def inductance_a(p: dict, torque=0.0, arrangement: int = 1):
+    if arrangement == 2:
+        return p["N"] ** 2 / (reluctance_a(p) + teeth_reluctance(p, -twist(p, torque)))
     return p["N"] ** 2 / reluctance_a(p)
 
 
@@ -49,21 +52,24 @@ def twist(p: dict, torque):
     return np.clip(np.asarray(torque, dtype=float) / p["K_torsion_bar"], -p["twist_stop"], p["twist_stop"])
 
 
+def teeth_reluctance(p: dict, twist_rad):
+    section = p["teeth"] * (p["rest_overlap"] + twist_rad) * p["tooth_radius"] * p["tooth_length"]
+    return p["tooth_gap"] / (MU0 * section)
+
+
 def inductance_b(p: dict, torque):
-    overlap = p["rest_overlap"] + twist(p, torque)
-    section = p["teeth"] * overlap * p["tooth_radius"] * p["tooth_length"]
-    return p["N"] ** 2 / (reluctance_a(p) + p["tooth_gap"] / (MU0 * section))
+    return p["N"] ** 2 / (reluctance_a(p) + teeth_reluctance(p, twist(p, torque)))
 
 
 def step_current(U: float, R: float, L: float, t):
     return U / R * (1 - np.exp(-np.asarray(t) * R / L))
 
 
-def steady_demodulated(p: dict, torque):
+def steady_demodulated(p: dict, torque, arrangement: int = 1):
     """u(T) = Re(R_bridge (I_B - I_A)) / 2 (phasors), V."""
     w = 2 * math.pi * p["f_supply"]
     r = p["R_bridge"] + p["R_winding"]
-    i_a = p["U_supply"] / (r + 1j * w * inductance_a(p))
+    i_a = p["U_supply"] / (r + 1j * w * inductance_a(p, torque, arrangement))
     i_b = p["U_supply"] / (r + 1j * w * inductance_b(p, torque))
     return 0.5 * np.real(p["R_bridge"] * (i_b - i_a))
 

@@ -16,6 +16,11 @@
 //!   reference arm. Part B (question 7) adds the new component, a toothed air gap between the
 //!   teeth of ring B and those of ring A; the rings sit on the two ends of the torsion bar, so
 //!   the teeth's overlap (the gap's section) follows the twist, the rings' relative angle.
+//! * `arrangement` = 2 makes the sensor differential, the other reading of "a variable air gap for
+//!   rings A and B": part A's circuit crosses the toothed gap too, at the opposite twist, so
+//!   L_A(T) = L_B(-T). The bridge is then balanced at zero torque (no offset) and its output odd
+//!   in the torque (1.4 % of its span from a straight line instead of 11 %). The default (1)
+//!   follows question 7, where only part B gets a new component.
 //! * The windings are modelled with their flux as state (Ampere and Lenz, question 1), so ring
 //!   B's time-varying reluctance is handled exactly. Beside winding A, an R-L impedance with the
 //!   inductance of question 4 (question 5) is driven the same way, for comparison.
@@ -68,6 +73,7 @@ pub struct TorqueSensor {
     tooth_gap: Parameter,
     tooth_width: Parameter,
     rest_overlap: Parameter,
+    arrangement: IntegerParameter,
     supply_mode: IntegerParameter,
     u_supply_amplitude: Parameter,
     f_supply: Parameter,
@@ -92,6 +98,7 @@ pub struct TorqueSensor {
     y_i_rl: Output,
     y_flux_a: Output,
     y_flux_b: Output,
+    y_l_a: Output,
     y_l_b: Output,
     y_bridge: Output,
     y_product: Output,
@@ -119,6 +126,7 @@ struct Operating {
     supply: f64,
     i_a: f64,
     i_b: f64,
+    l_a: f64,
     l_b: f64,
     bridge: f64,
     product: f64,
@@ -144,6 +152,7 @@ impl TorqueSensor {
                 tooth_width_rad: k[self.tooth_width],
                 rest_overlap_rad: k[self.rest_overlap],
             },
+            differential: k[self.arrangement] == 2,
             bridge_resistance_ohm: k[self.r_bridge],
             supply: SineVoltage { amplitude_v: u, frequency_hz: k[self.f_supply] },
             multiplier: Multiplier { reference_amplitude: u },
@@ -177,8 +186,8 @@ impl TorqueSensor {
             Supply::Carrier => s.supply.voltage_v(t),
             Supply::Step => s.supply.amplitude_v,
         };
-        let circuit_b = s.circuit_b(twist);
-        let i_a = s.winding.current_a(k[self.flux_a], s.circuit_a());
+        let (circuit_a, circuit_b) = (s.circuit_a(twist), s.circuit_b(twist));
+        let i_a = s.winding.current_a(k[self.flux_a], circuit_a);
         let i_b = s.winding.current_a(k[self.flux_b], circuit_b);
         let bridge = s.bridge_resistance_ohm * (i_b - i_a);
         Operating {
@@ -187,6 +196,7 @@ impl TorqueSensor {
             supply,
             i_a,
             i_b,
+            l_a: s.winding.inductance_h(circuit_a),
             l_b: s.winding.inductance_h(circuit_b),
             bridge,
             product: s.multiplier.product(bridge, supply),
@@ -231,6 +241,7 @@ impl Model for TorqueSensor {
             tooth_gap: d.parameter("tooth_gap", 3e-4, "m").positive().describe("Radial length of ring B's toothed air gap (chosen)"),
             tooth_width: d.parameter("tooth_width", PI / 8.0, "rad").positive().describe("Angular width of a tooth, half the 45 deg pitch (chosen)"),
             rest_overlap: d.parameter("rest_overlap", PI / 16.0, "rad").positive().describe("Angular overlap of a tooth pair at zero twist, half a tooth (chosen)"),
+            arrangement: d.integer_parameter("arrangement", 1).range(1, 2).describe("1 = part A is Figure 3.26 as is, the bridge's reference arm (question 7: only B gets the toothed gap); 2 = differential: ring A's circuit crosses a toothed gap too, whose overlap shrinks as B's grows"),
             supply_mode: d.integer_parameter("supply_mode", 1).range(1, 2).describe("Bridge supply: 1 = U_supply sin(2 pi f_supply t) (question 8), 2 = a U_supply step at t = 0 (question 5)"),
             u_supply_amplitude: d.parameter("U_supply", 5.0, "V").positive().describe("Amplitude of the bridge supply (chosen: 5 V sensor electronics)"),
             f_supply: d.parameter("f_supply", 5000.0, "Hz").min(0.0).describe("Frequency of the bridge supply (chapter, question 8)"),
@@ -255,6 +266,7 @@ impl Model for TorqueSensor {
             y_i_rl: d.output("i_rl_A", "A").describe("Current of the R-L model of winding A with the inductance of question 4 (question 5)"),
             y_flux_a: d.output("flux_winding_A", "Wb").describe("Flux through winding A"),
             y_flux_b: d.output("flux_winding_B", "Wb").describe("Flux through winding B"),
+            y_l_a: d.output("inductance_A", "H").describe("Inductance of winding A at the present twist (constant unless arrangement = 2)"),
             y_l_b: d.output("inductance_B", "H").describe("Inductance of winding B at the present twist, N^2 / reluctance"),
             y_bridge: d.output("u_bridge", "V").describe("Bridge voltage R_bridge (i_B - i_A)"),
             y_product: d.output("u_product", "V").describe("Multiplier output u_bridge u_supply / U_supply (question 8)"),
@@ -262,7 +274,7 @@ impl Model for TorqueSensor {
             y_measured: d.output("torque_measured", "N.m").describe("Conditioned torque measurement (question 9): offset removed, the model's characteristic inverted"),
             offset_removed: d.local("u_offset_removed", "V").describe("u_demodulated minus the zero-torque offset"),
             l_question4: d.calculated_parameter("L_question4", "H").describe("Inductance of question 4: pi mu0 b N^2 / ln(r2/r1) (infinitely permeable iron)"),
-            l_a: d.calculated_parameter("L_A", "H").describe("Inductance of winding A with the iron's reluctance, N^2 / reluctance"),
+            l_a: d.calculated_parameter("L_A", "H").describe("Inductance of winding A at zero twist with the iron's reluctance, N^2 / reluctance"),
             offset: d.calculated_parameter("u_demodulated_zero_torque", "V").describe("Steady demodulated voltage at zero torque (phasors): the offset removed by the conditioning"),
         }
     }
@@ -317,6 +329,7 @@ impl Model for TorqueSensor {
         out[self.y_i_rl] = k[self.i_rl];
         out[self.y_flux_a] = k[self.flux_a];
         out[self.y_flux_b] = k[self.flux_b];
+        out[self.y_l_a] = op.l_a;
         out[self.y_l_b] = op.l_b;
         out[self.y_bridge] = op.bridge;
         out[self.y_product] = op.product;
@@ -324,7 +337,7 @@ impl Model for TorqueSensor {
         out[self.offset_removed] = demodulated - offset;
         out[self.y_measured] = s.measured_torque_n_m(demodulated - offset);
         out[self.l_question4] = s.question4_inductance_h();
-        out[self.l_a] = s.winding.inductance_h(s.circuit_a());
+        out[self.l_a] = s.winding.inductance_h(s.circuit_a(0.0));
         out[self.offset] = offset;
     }
 }

@@ -17,6 +17,9 @@ pub struct Sensor {
     pub iron: Reluctance,
     /// Ring B's twist-dependent air gap (question 7).
     pub teeth: ToothedAirGap,
+    /// Whether part A's circuit crosses a toothed gap too, whose overlap shrinks as ring B's
+    /// grows (a differential sensor); false: part A is Figure 3.26 as is, the reference arm.
+    pub differential: bool,
     /// The two resistors of the bridge (one above each winding), Ohm.
     pub bridge_resistance_ohm: f64,
     /// The 5 kHz bridge supply (question 8).
@@ -26,14 +29,24 @@ pub struct Sensor {
 }
 
 impl Sensor {
-    /// Magnetic circuit of part A (Figure 3.26): two ring gaps and the iron, in series.
-    pub fn circuit_a(&self) -> Reluctance {
+    /// Figure 3.26's circuit: two ring gaps and the iron, in series.
+    pub fn fixed_circuit(&self) -> Reluctance {
         self.ring_gap.series(self.ring_gap).series(self.iron)
     }
 
-    /// Magnetic circuit of part B (question 7): part A's circuit plus the toothed gap.
+    /// Magnetic circuit of part A: Figure 3.26's (differential: plus the toothed gap at the
+    /// opposite twist).
+    pub fn circuit_a(&self, twist_rad: f64) -> Reluctance {
+        if self.differential {
+            self.fixed_circuit().series(self.teeth.reluctance(-twist_rad))
+        } else {
+            self.fixed_circuit()
+        }
+    }
+
+    /// Magnetic circuit of part B (question 7): Figure 3.26's plus the toothed gap.
     pub fn circuit_b(&self, twist_rad: f64) -> Reluctance {
-        self.circuit_a().series(self.teeth.reluctance(twist_rad))
+        self.fixed_circuit().series(self.teeth.reluctance(twist_rad))
     }
 
     /// Question 4: the inductance with soft iron of infinite permeability, N^2 / (2 R_gap)
@@ -60,7 +73,7 @@ impl Sensor {
     /// product B sin(wt + arg B) sin(wt) has the mean Re(B) / 2, which the filter (unit DC gain)
     /// passes. Exact once the electrical and filter transients have died out.
     pub fn steady_demodulated_v(&self, twist_rad: f64) -> f64 {
-        let l_a = self.winding.inductance_h(self.circuit_a());
+        let l_a = self.winding.inductance_h(self.circuit_a(twist_rad));
         let l_b = self.winding.inductance_h(self.circuit_b(twist_rad));
         let bridge = (self.arm_current(l_b) - self.arm_current(l_a)) * Complex::new(self.bridge_resistance_ohm, 0.0);
         0.5 * bridge.re
@@ -116,6 +129,7 @@ mod tests {
                 tooth_width_rad: PI / 8.0,
                 rest_overlap_rad: PI / 16.0,
             },
+            differential: false,
             bridge_resistance_ohm: 2200.0,
             supply: SineVoltage { amplitude_v: 5.0, frequency_hz: 5000.0 },
             multiplier: Multiplier { reference_amplitude: 5.0 },
@@ -132,6 +146,11 @@ mod tests {
             let measured = s.measured_torque_n_m(u);
             assert!((measured - torque).abs() < 1e-9, "{torque} -> {measured}");
         }
+        let differential = Sensor { differential: true, ..s };
+        for torque in [-8.0, -0.5, 3.0] {
+            let u = differential.steady_demodulated_v(differential.torsion_bar.twist_rad(torque));
+            assert!((differential.measured_torque_n_m(u) - torque).abs() < 1e-9);
+        }
         // out of range: saturates at a stop torque
         assert!((s.measured_torque_n_m(1e3).abs() - s.torsion_bar.stop_torque_n_m()).abs() < 1e-9);
     }
@@ -145,12 +164,23 @@ mod tests {
     }
 
     #[test]
+    fn differential_arrangement_is_balanced_and_odd() {
+        // both arms cross the toothed gap, at opposite twists: L_A(t) = L_B(-t), so u(-t) = -u(t)
+        let s = Sensor { differential: true, ..sensor() };
+        assert!(s.zero_torque_demodulated_v().abs() < 1e-15);
+        for twist in [0.01, 0.05] {
+            let (up, down) = (s.steady_demodulated_v(twist), s.steady_demodulated_v(-twist));
+            assert!((up + down).abs() < 1e-12 * up.abs(), "{up} {down}");
+        }
+    }
+
+    #[test]
     fn question4_inductance_ignores_the_iron() {
         let s = sensor();
         let mu0 = 4e-7 * PI;
         let closed_form = PI * mu0 * 0.002 * 1e6 / (0.0165f64 / 0.015).ln();
         assert!((s.question4_inductance_h() / closed_form - 1.0).abs() < 1e-12);
-        let l_a = s.winding.inductance_h(s.circuit_a());
+        let l_a = s.winding.inductance_h(s.circuit_a(0.0));
         assert!(l_a < s.question4_inductance_h() && l_a > 0.99 * s.question4_inductance_h());
     }
 }
