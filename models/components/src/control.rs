@@ -51,6 +51,21 @@ impl SecondOrderFilter {
     }
 }
 
+/// The multiplier of a synchronous demodulator (section 3.5.2, Figure 3.27, question 8): the
+/// signal times the carrier reference divided by the reference's amplitude, so the product is in
+/// the signal's unit. For a signal A sin(wt + phi) and the reference R sin(wt), the product is
+/// (A/2) (cos phi - cos(2wt + phi)): a low-pass filter keeps the in-phase part A cos(phi) / 2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Multiplier {
+    pub reference_amplitude: f64,
+}
+
+impl Multiplier {
+    pub fn product(&self, signal: f64, reference: f64) -> f64 {
+        signal * reference / self.reference_amplitude
+    }
+}
+
 /// A PI controller with an output limit and anti-windup by conditional integration.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PiController {
@@ -96,6 +111,21 @@ mod tests {
         let f = SecondOrderFilter { natural_frequency_hz: 0.5, damping: 0.7 };
         assert_eq!(f.acceleration(3.0, 3.0, 0.0), 0.0);
         assert!(f.acceleration(3.0, 0.0, 0.0) > 0.0);
+    }
+
+    #[test]
+    fn multiplier_mean_is_half_the_in_phase_amplitude() {
+        // mean over one period of A sin(wt + phi) R sin(wt) / R = A cos(phi) / 2
+        let m = Multiplier { reference_amplitude: 5.0 };
+        let (a, phi, n) = (0.3, 0.7, 10_000);
+        let mean: f64 = (0..n)
+            .map(|k| {
+                let x = 2.0 * PI * (k as f64 + 0.5) / n as f64;
+                m.product(a * (x + phi).sin(), 5.0 * x.sin())
+            })
+            .sum::<f64>()
+            / n as f64;
+        assert!((mean - a * phi.cos() / 2.0).abs() < 1e-12);
     }
 
     #[test]

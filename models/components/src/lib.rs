@@ -7,13 +7,15 @@ pub mod complex;
 pub mod control;
 pub mod electrical;
 pub mod induction;
+pub mod magnetic;
 pub mod mechanical;
 pub mod sources;
 pub mod thermal;
 
-pub use control::{PiController, SecondOrderFilter, SpeedRamp};
+pub use control::{Multiplier, PiController, SecondOrderFilter, SpeedRamp};
 pub use electrical::{Capacitor, Inductor, Resistor};
 pub use induction::{Fluxes, InductionMachine};
-pub use mechanical::{FanLoad, Inertia, Reducer, TorsionSpring};
-pub use sources::SineVoltage;
+pub use magnetic::{Reluctance, RlWinding, ToothedAirGap, Winding, MU_0_H_PER_M};
+pub use mechanical::{FanLoad, Inertia, Reducer, TorsionBar, TorsionSpring};
+pub use sources::{Ramp, SineVoltage};
 pub use thermal::{ThermalConductance, ThermalNode};

@@ -55,6 +55,34 @@ impl TorsionSpring {
     }
 }
 
+/// The torsion bar of a steering torque sensor (section 3.5.2, Figure 3.24a; question 6): a
+/// massless spring between the input (steering wheel) and output shafts whose twist is
+/// proportional to the driver's torque, theta = T / K, up to the mechanical end stops at
+/// +/- `stop_angle_rad` beyond which the stops carry the extra torque.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TorsionBar {
+    pub stiffness_n_m_per_rad: f64,
+    pub stop_angle_rad: f64,
+}
+
+impl TorsionBar {
+    /// Stiffness of a round bar of a shear modulus, diameter and length: K = G pi d^4 / (32 l)
+    /// (polar moment of area pi d^4 / 32), N m/rad.
+    pub fn round_bar_stiffness_n_m_per_rad(shear_modulus_pa: f64, diameter_m: f64, length_m: f64) -> f64 {
+        shear_modulus_pa * std::f64::consts::PI * diameter_m.powi(4) / (32.0 * length_m)
+    }
+
+    /// Twist angle of the input shaft with respect to the output shaft under a torque, rad.
+    pub fn twist_rad(&self, torque_n_m: f64) -> f64 {
+        (torque_n_m / self.stiffness_n_m_per_rad).clamp(-self.stop_angle_rad, self.stop_angle_rad)
+    }
+
+    /// The torque at which the bar reaches its stops, N m.
+    pub fn stop_torque_n_m(&self) -> f64 {
+        self.stiffness_n_m_per_rad * self.stop_angle_rad
+    }
+}
+
 /// A massless reducer: ratio N = w_high / w_low, efficiency eta on the power flowing through it
 /// (section 3.3.1, level a: "the reducer with its transformation ratio and its efficiency").
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,6 +146,19 @@ impl FanLoad {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn torsion_bar_twists_in_proportion_up_to_its_stops() {
+        let bar = TorsionBar { stiffness_n_m_per_rad: 100.0, stop_angle_rad: 0.1 };
+        assert_eq!(bar.twist_rad(5.0), 0.05);
+        assert_eq!(bar.twist_rad(-5.0), -0.05);
+        assert_eq!((bar.twist_rad(50.0), bar.twist_rad(-50.0)), (0.1, -0.1));
+        assert_eq!(bar.stop_torque_n_m(), 10.0);
+        // K = G J / l with J = pi d^4 / 32: a 5 mm steel bar (G = 80 GPa) 40 mm long
+        let j = std::f64::consts::PI * 0.005f64.powi(4) / 32.0;
+        let k = TorsionBar::round_bar_stiffness_n_m_per_rad(80e9, 0.005, 0.04);
+        assert!((k - 80e9 * j / 0.04).abs() < 1e-9 * k);
+    }
 
     #[test]
     fn chapter_numbers_come_out() {

@@ -20,9 +20,45 @@ impl SineVoltage {
     }
 }
 
+/// A ramp of `height` starting at `start_s` and lasting `duration_s` (a step when the duration
+/// is 0): the built-in test signals of the models (a torque step or ramp).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ramp {
+    pub start_s: f64,
+    pub duration_s: f64,
+    pub height: f64,
+}
+
+impl Ramp {
+    pub fn value(&self, time_s: f64) -> f64 {
+        if time_s < self.start_s {
+            0.0
+        } else if time_s >= self.start_s + self.duration_s {
+            self.height
+        } else {
+            self.height * (time_s - self.start_s) / self.duration_s
+        }
+    }
+
+    /// The kinks (or the step) after `after`, for the solver to stop at.
+    pub fn next_kink(&self, after: f64) -> Option<f64> {
+        [self.start_s, self.start_s + self.duration_s].into_iter().find(|t| *t > after)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ramp_starts_late_and_reports_its_kinks() {
+        let r = Ramp { start_s: 1.0, duration_s: 2.0, height: 4.0 };
+        assert_eq!((r.value(0.5), r.value(2.0), r.value(3.0), r.value(9.0)), (0.0, 2.0, 4.0, 4.0));
+        assert_eq!((r.next_kink(0.0), r.next_kink(1.0), r.next_kink(3.0)), (Some(1.0), Some(3.0), None));
+        let step = Ramp { start_s: 1.0, duration_s: 0.0, height: 4.0 };
+        assert_eq!((step.value(0.999), step.value(1.0)), (0.0, 4.0));
+        assert_eq!((step.next_kink(0.0), step.next_kink(1.0)), (Some(1.0), None));
+    }
 
     #[test]
     fn a_quarter_period_reaches_the_amplitude() {
