@@ -3,6 +3,13 @@
 //! of the total (Table 3.3).
 
 /// d A_i / dt for an element exchanging `power_w` (= e f).
+///
+/// ```
+/// use components::activity::{activity_rate, shares_percent};
+/// // Power flowing back counts as much as power flowing in: the activity integrates |e f|.
+/// assert_eq!(activity_rate(-250.0), 250.0);
+/// assert_eq!(shares_percent([30.0, 10.0, 60.0]), [30.0, 10.0, 60.0]);
+/// ```
 pub fn activity_rate(power_w: f64) -> f64 {
     power_w.abs()
 }

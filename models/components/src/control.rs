@@ -4,6 +4,14 @@
 use std::f64::consts::PI;
 
 /// A ramp from 0 to `target` over `duration_s` starting at t = 0 (a step when the duration is 0).
+/// ```
+/// use components::SpeedRamp;
+/// // The chapter's 10 s ramp to the fan's rated speed.
+/// let set_point = SpeedRamp { target: 153.5, duration_s: 10.0 };
+/// assert_eq!(set_point.value(5.0), 76.75);
+/// assert_eq!(set_point.slope(5.0), 15.35);
+/// assert_eq!(set_point.value(12.0), 153.5);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedRamp {
     pub target: f64,
@@ -37,6 +45,13 @@ impl SpeedRamp {
 }
 
 /// y'' = wn^2 (u - y) - 2 zeta wn y': a second-order low-pass filter (unit static gain).
+/// ```
+/// use components::SecondOrderFilter;
+/// // At rest on its input, a filter does not move; below it, it accelerates upward.
+/// let filter = SecondOrderFilter { natural_frequency_hz: 1.0, damping: 0.7 };
+/// assert_eq!(filter.acceleration(2.0, 2.0, 0.0), 0.0);
+/// assert!(filter.acceleration(2.0, 0.0, 0.0) > 0.0);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SecondOrderFilter {
     pub natural_frequency_hz: f64,
@@ -55,6 +70,14 @@ impl SecondOrderFilter {
 /// signal times the carrier reference divided by the reference's amplitude, so the product is in
 /// the signal's unit. For a signal A sin(wt + phi) and the reference R sin(wt), the product is
 /// (A/2) (cos phi - cos(2wt + phi)): a low-pass filter keeps the in-phase part A cos(phi) / 2.
+/// ```
+/// use components::Multiplier;
+/// // An in-phase signal 2 sin(wt) times the reference 5 sin(wt) / 5 averages to 2 / 2 = 1.
+/// let m = Multiplier { reference_amplitude: 5.0 };
+/// let w = 2.0 * std::f64::consts::PI;
+/// let mean: f64 = (0..1000).map(|i| { let t = i as f64 / 1000.0; m.product(2.0 * (w * t).sin(), 5.0 * (w * t).sin()) }).sum::<f64>() / 1000.0;
+/// assert!((mean - 1.0).abs() < 1e-9);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Multiplier {
     pub reference_amplitude: f64,
@@ -67,6 +90,13 @@ impl Multiplier {
 }
 
 /// A PI controller with an output limit and anti-windup by conditional integration.
+/// ```
+/// use components::PiController;
+/// let pi = PiController { proportional_gain: 200.0, integral_gain: 2000.0, output_limit: 2500.0 };
+/// assert_eq!(pi.command(1.0, 0.1), 400.0); // Kp e + Ki integral
+/// assert_eq!(pi.command(100.0, 0.0), 2500.0); // clamped
+/// assert_eq!(pi.integral_rate(100.0, 0.0), 0.0); // no wind-up while clamped
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PiController {
     pub proportional_gain: f64,

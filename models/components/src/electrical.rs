@@ -3,6 +3,13 @@
 //! electric energy (voltage is its state).
 
 /// A linear resistor: u = R i (dissipation).
+/// ```
+/// use components::Resistor;
+/// let r = Resistor { resistance_ohm: 10.0 };
+/// assert_eq!(r.voltage_v(2.0), 20.0); // u = R i
+/// assert_eq!(r.current_a(5.0), 0.5);
+/// assert_eq!(r.power_w(2.0), 40.0); // R i^2, dissipated
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Resistor {
     pub resistance_ohm: f64,
@@ -26,6 +33,14 @@ impl Resistor {
 }
 
 /// A linear inductor: u = L di/dt (magnetic energy storage).
+/// ```
+/// use components::Inductor;
+/// // Figure 3.3's line: 10 mH under 1 V rises its current at 100 A/s.
+/// let l = Inductor { inductance_h: 0.01 };
+/// assert!((l.current_rate_a_per_s(1.0) - 100.0).abs() < 1e-12);
+/// assert!((l.energy_j(2.0) - 0.02).abs() < 1e-15); // L i^2 / 2
+/// assert!((l.reactance_ohm(2.0 * std::f64::consts::PI * 50.0) - 3.14159).abs() < 1e-5);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Inductor {
     pub inductance_h: f64,
@@ -49,6 +64,12 @@ impl Inductor {
 }
 
 /// A linear capacitor: i = C du/dt (electric energy storage).
+/// ```
+/// use components::Capacitor;
+/// let c = Capacitor { capacitance_f: 1e-4 };
+/// assert!((c.voltage_rate_v_per_s(0.5) - 5000.0).abs() < 1e-9); // du/dt = i / C
+/// assert!((c.energy_j(10.0) - 5e-3).abs() < 1e-15); // C u^2 / 2
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Capacitor {
     pub capacitance_f: f64,

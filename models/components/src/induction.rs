@@ -9,6 +9,19 @@ use crate::complex::Complex;
 use std::f64::consts::{PI, SQRT_2};
 
 /// Parameters of a three-phase, star-connected induction machine.
+/// ```
+/// use components::InductionMachine;
+/// let motor = InductionMachine {
+///     stator_resistance_ohm: 0.012, rotor_resistance_ohm: 0.020, stator_leakage_h: 2.5e-4,
+///     rotor_leakage_h: 2.5e-4, magnetizing_h: 0.01, pole_pairs: 2.0,
+///     line_voltage_rms_v: 400.0, frequency_hz: 50.0,
+/// };
+/// let w_sync = motor.synchronous_speed_rad_per_s(); // 2 pi 50 / 2 = 157.08 rad/s
+/// assert!((w_sync - 157.0796).abs() < 1e-4);
+/// assert_eq!(motor.steady_state(w_sync).torque_n_m, 0.0); // no slip, no torque
+/// let breakdown = motor.steady_state_at_slip(motor.breakdown_slip()).torque_n_m;
+/// assert!(breakdown > motor.steady_state_at_slip(1.0).torque_n_m); // above the locked-rotor torque
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct InductionMachine {
     pub stator_resistance_ohm: f64,

@@ -1,6 +1,32 @@
 //! The chapter's vocabulary as plain Rust: lumped elements with their constitutive laws, in SI
 //! units, knowing nothing about FMI. Each element can say the power it exchanges (effort times
 //! flow), so the activity index of chapter eq. 3.3 (A = integral of |e f| dt) comes for free.
+//!
+//! A model composes them in its `derivatives`: here the right-hand side of the motor-fan's
+//! level c (Figure 3.5c) at one instant, with a constant motor torque.
+//!
+//! ```
+//! use components::{FanLoad, Inertia, Reducer, TorsionSpring};
+//! let motor = Inertia { inertia_kg_m2: 1.72 };
+//! let shaft = TorsionSpring { stiffness_n_m_per_rad: 906.85, damping_n_m_s_per_rad: 5.0 };
+//! let gear = Reducer { ratio: 10.0, efficiency: 0.97 };
+//! let fan = Inertia { inertia_kg_m2: 1172.0 };
+//! let blades = FanLoad { coefficient_n_m_s2_per_rad2: 42.9 };
+//! let (w_motor, twist, w_fan, torque_motor) = (100.0, 0.5, 9.9, 1000.0);
+//!
+//! let w_high = w_fan * gear.ratio; // the reducer's input speed
+//! let t_shaft = shaft.torque_n_m(twist, w_motor - w_high);
+//! let dw_motor = motor.acceleration_rad_per_s2(torque_motor - t_shaft);
+//! let dtwist = w_motor - w_high;
+//! let dw_fan = fan.acceleration_rad_per_s2(gear.low_side_torque_n_m(t_shaft, w_high) - blades.torque_n_m(w_fan));
+//! assert!(dw_motor > 0.0 && dtwist > 0.0 && dw_fan > 0.0);
+//! ```
+//!
+//! Modules: [`electrical`] (R, L, C), [`mechanical`] (inertia, torsion spring and bar, reducer,
+//! fan load), [`induction`] (the induction machine, circuit and dq), [`control`] (ramps, filter,
+//! multiplier, PI), [`sources`], [`thermal`] (nodes and conductances), [`magnetic`] (reluctances
+//! and windings), [`activity`] (eq. 3.3). Every element has an example in its documentation
+//! (`cargo doc -p components --open`).
 
 pub mod activity;
 pub mod complex;

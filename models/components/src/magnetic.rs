@@ -16,6 +16,16 @@ use crate::electrical::{Inductor, Resistor};
 pub const MU_0_H_PER_M: f64 = 4.0e-7 * PI;
 
 /// A linear reluctance: mmf = reluctance x flux (question 2).
+/// ```
+/// use components::Reluctance;
+/// // Question 4: two radial gaps r1 = 15 mm to r2 = 16.5 mm over b = 2 mm, N = 1000 turns:
+/// // L = N^2 / R = pi mu0 b N^2 / ln(r2/r1) = 82.84 mH.
+/// let gap = Reluctance::radial_air_gap(0.015, 0.0165, 0.002);
+/// let circuit = gap.series(gap);
+/// let l = 1000.0f64.powi(2) * circuit.permeance_h();
+/// assert!((l - 0.08284).abs() < 1e-5);
+/// assert!((circuit.flux_wb(circuit.mmf_a(1e-4)) - 1e-4).abs() < 1e-18);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Reluctance {
     pub reluctance_per_h: f64,
@@ -67,6 +77,15 @@ impl Reluctance {
 /// Figure 3.26): Ampere's law gives its mmf N i, Lenz's (Faraday's) law its induced voltage
 /// N d(flux)/dt, so u = R i + N d(flux)/dt. With the flux as state the winding stays right when
 /// the circuit's reluctance changes with time (the twist-dependent air gap of ring B).
+/// ```
+/// use components::{Reluctance, Winding};
+/// let coil = Winding { turns: 1000.0, resistance_ohm: 30.0 };
+/// let circuit = Reluctance { reluctance_per_h: 1.2e7 };
+/// assert!((coil.inductance_h(circuit) - 1000.0f64.powi(2) / 1.2e7).abs() < 1e-15); // N^2 / R
+/// // Ampere: N i = R flux, so the current follows from the flux (the state).
+/// let flux = 1e-5;
+/// assert!((coil.current_a(flux, circuit) - 1.2e7 * flux / 1000.0).abs() < 1e-12);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Winding {
     pub turns: f64,
@@ -106,6 +125,13 @@ impl Winding {
 
 /// A winding seen from its terminals only: a resistance in series with a fixed inductance,
 /// u = R i + L di/dt (question 5 compares it with [`Winding`] on its magnetic circuit).
+/// ```
+/// use components::RlWinding;
+/// let rl = RlWinding { inductance_h: 0.0828, resistance_ohm: 30.0 };
+/// // At rest under 5 V the current rises at U / L; at U / R it stops.
+/// assert!((rl.current_rate_a_per_s(5.0, 0.0) - 5.0 / 0.0828).abs() < 1e-9);
+/// assert!(rl.current_rate_a_per_s(5.0, 5.0 / 30.0).abs() < 1e-12);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RlWinding {
     pub inductance_h: f64,
@@ -127,6 +153,14 @@ impl RlWinding {
 /// the overlap of each tooth pair is rest_overlap + twist (between 0 and the tooth width), the
 /// gap's section teeth x overlap x radius x axial length, and R = gap / (mu0 section). Fringing
 /// (the quarter-circle field lines of Figure 3.25) is neglected, as the chapter does.
+/// ```
+/// use components::ToothedAirGap;
+/// let gap = ToothedAirGap { teeth: 8.0, radius_m: 0.012, axial_length_m: 0.005, gap_length_m: 3e-4,
+///     tooth_width_rad: 22.5f64.to_radians(), rest_overlap_rad: 11.25f64.to_radians() };
+/// // Twisting one way widens the overlap and lowers the reluctance.
+/// assert!(gap.reluctance(0.01).reluctance_per_h < gap.reluctance(0.0).reluctance_per_h);
+/// assert!((gap.overlap_rad(0.0) - 11.25f64.to_radians()).abs() < 1e-15);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ToothedAirGap {
     pub teeth: f64,

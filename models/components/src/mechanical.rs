@@ -2,6 +2,13 @@
 //! flow = angular speed (rad/s).
 
 /// A rigid rotating body: J dw/dt = net torque (inertial storage, eq. 3.1).
+/// ```
+/// use components::Inertia;
+/// // The chapter's motor: J = 1.72 kg m2 under a net 172 N m accelerates at 100 rad/s2.
+/// let motor = Inertia { inertia_kg_m2: 1.72 };
+/// assert!((motor.acceleration_rad_per_s2(172.0) - 100.0).abs() < 1e-12);
+/// assert!((motor.energy_j(10.0) - 86.0).abs() < 1e-12); // J w^2 / 2
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Inertia {
     pub inertia_kg_m2: f64,
@@ -26,6 +33,14 @@ impl Inertia {
 
 /// A shaft in torsion with internal damping: T = K theta + D dtheta/dt (eq. 3.2 gives K from
 /// the geometry).
+/// ```
+/// use components::TorsionSpring;
+/// // The motor-fan driveshaft: 1.4 Hz with the fan's 11.72 kg m2 on a fixed motor (eq. 3.8).
+/// let shaft = TorsionSpring { stiffness_n_m_per_rad: 906.85, damping_n_m_s_per_rad: 5.0 };
+/// assert!((shaft.natural_frequency_hz(11.72, f64::INFINITY) - 1.4).abs() < 1e-3);
+/// assert_eq!(shaft.torque_n_m(0.1, 0.0), 90.685); // K theta
+/// assert_eq!(shaft.damper_power_w(2.0), 20.0); // D (dtheta/dt)^2
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TorsionSpring {
     pub stiffness_n_m_per_rad: f64,
@@ -59,6 +74,13 @@ impl TorsionSpring {
 /// massless spring between the input (steering wheel) and output shafts whose twist is
 /// proportional to the driver's torque, theta = T / K, up to the mechanical end stops at
 /// +/- `stop_angle_rad` beyond which the stops carry the extra torque.
+/// ```
+/// use components::TorsionBar;
+/// // 2 N m per degree, stops at 5 degrees.
+/// let bar = TorsionBar { stiffness_n_m_per_rad: 2.0 * 180.0 / std::f64::consts::PI, stop_angle_rad: 5f64.to_radians() };
+/// assert!((bar.twist_rad(4.0) - 2f64.to_radians()).abs() < 1e-12);
+/// assert!((bar.stop_torque_n_m() - 10.0).abs() < 1e-9);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TorsionBar {
     pub stiffness_n_m_per_rad: f64,
@@ -85,6 +107,15 @@ impl TorsionBar {
 
 /// A massless reducer: ratio N = w_high / w_low, efficiency eta on the power flowing through it
 /// (section 3.3.1, level a: "the reducer with its transformation ratio and its efficiency").
+/// ```
+/// use components::Reducer;
+/// let gear = Reducer { ratio: 10.0, efficiency: 0.97 };
+/// assert_eq!(gear.low_speed(150.0), 15.0);
+/// // Driving (T w > 0): the low side receives N eta T; braking back: N T / eta.
+/// assert!((gear.low_side_torque_n_m(100.0, 150.0) - 970.0).abs() < 1e-9);
+/// assert!((gear.low_side_torque_n_m(-100.0, 150.0) + 1000.0 / 0.97).abs() < 1e-9);
+/// assert!((gear.referred_inertia_kg_m2(1172.0) - 11.72).abs() < 1e-12); // J / N^2 (eq. 3.6)
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Reducer {
     pub ratio: f64,
@@ -132,6 +163,12 @@ impl Reducer {
 }
 
 /// Aerodynamic torque of fan blades, T = k w |w| (opposes the rotation; Table 3.1).
+/// ```
+/// use components::FanLoad;
+/// let fan = FanLoad { coefficient_n_m_s2_per_rad2: 42.9 };
+/// assert_eq!(fan.torque_n_m(10.0), 4290.0);
+/// assert_eq!(fan.torque_n_m(-10.0), -4290.0); // always against the rotation
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FanLoad {
     pub coefficient_n_m_s2_per_rad2: f64,

@@ -3,6 +3,11 @@
 use std::f64::consts::PI;
 
 /// u(t) = amplitude sin(2 pi f t), the excitation of chapter Figure 3.3.
+/// ```
+/// use components::SineVoltage;
+/// let u = SineVoltage { amplitude_v: 10.0, frequency_hz: 50.0 };
+/// assert!((u.voltage_v(0.005) - 10.0).abs() < 1e-12); // a quarter period
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SineVoltage {
     pub amplitude_v: f64,
@@ -22,6 +27,14 @@ impl SineVoltage {
 
 /// A ramp of `height` starting at `start_s` and lasting `duration_s` (a step when the duration
 /// is 0): the built-in test signals of the models (a torque step or ramp).
+/// ```
+/// use components::Ramp;
+/// let torque = Ramp { start_s: 0.01, duration_s: 0.02, height: 4.0 };
+/// assert_eq!(torque.value(0.0), 0.0);
+/// assert_eq!(torque.value(0.02), 2.0);
+/// assert_eq!(torque.value(1.0), 4.0);
+/// assert_eq!(torque.next_kink(0.0), Some(0.01)); // where a solver must stop
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ramp {
     pub start_s: f64,
