@@ -83,7 +83,9 @@ pub trait Model: Sized + Send + Sync + 'static {
     /// At an event (and at the end of initialization): the discrete modes after it, from the
     /// knowns `k` at the event. Write the new modes into `next` (it starts as the current ones);
     /// `next.reinit(state, value)` sets a state where the physics says so. The runtime calls this
-    /// again until nothing changes (at most `MAX_MODE_ITERATIONS` times).
+    /// again until nothing changes (at most `MAX_MODE_ITERATIONS` times). Let a mode hold exactly
+    /// while its indicator is > 0: the point the runtime (or an ME master) stops at has the
+    /// indicator <= 0, possibly exactly 0, and the update must then leave the mode.
     fn update_modes(&self, _k: &Knowns, _next: &mut ModeUpdate) {}
 
     /// The state derivatives dx/dt at the knowns `k`.

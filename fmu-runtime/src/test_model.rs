@@ -113,7 +113,8 @@ impl Model for Block {
         let (v, u, mode) = (k[self.v], k[self.force], k[self.mode]);
         let at_rest = |next: &mut crate::values::ModeUpdate| {
             next.reinit(self.v, 0.0);
-            next[self.mode] = if u.abs() <= k[self.f_static] { 0 } else { u.signum() as i32 };
+            // Stuck while its indicator F_s - |u| is > 0 (a mode holds while its indicator is > 0).
+            next[self.mode] = if k[self.f_static] - u.abs() > 0.0 { 0 } else { u.signum() as i32 };
         };
         match mode {
             0 if v != 0.0 => next[self.mode] = v.signum() as i32,

@@ -5,13 +5,15 @@
 pub mod activity;
 pub mod complex;
 pub mod control;
+pub mod dc;
 pub mod electrical;
 pub mod induction;
 pub mod mechanical;
 pub mod sources;
 
 pub use control::{PiController, SecondOrderFilter, SpeedRamp};
+pub use dc::DcMachine;
 pub use electrical::{Capacitor, Inductor, Resistor};
 pub use induction::{Fluxes, InductionMachine};
-pub use mechanical::{FanLoad, Inertia, Reducer, TorsionSpring};
+pub use mechanical::{CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionSpring};
 pub use sources::SineVoltage;
