@@ -1168,7 +1168,11 @@ mod tests {
     }
 
     fn block(interface: Interface) -> Instance<crate::test_model::Block> {
-        let mut i = Instance::<crate::test_model::Block>::for_interface(interface, "{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        block_of(interface)
+    }
+
+    fn block_of<M: Model>(interface: Interface) -> Instance<M> {
+        let mut i = Instance::<M>::for_interface(interface, "{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
         i.setup_experiment(Some(1e-8), 0.0, None).unwrap();
         i.enter_initialization_mode().unwrap();
         i.exit_initialization_mode().unwrap();
@@ -1234,6 +1238,16 @@ mod tests {
         i.do_step(1.5, 1.0).unwrap();
         assert_eq!(named(&mut i, "v"), 0.0);
         assert!((named(&mut i, "x") - 3.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_implicit_solver_locates_the_same_event() {
+        let mut i = block_of::<crate::test_model::ImplicitBlock>(Interface::CoSimulation);
+        i.do_step(0.0, 1.5).unwrap();
+        i.do_step(1.5, 1.0).unwrap();
+        assert_eq!(named(&mut i, "v"), 0.0);
+        assert!((named(&mut i, "x") - 3.0).abs() < 1e-8, "{}", named(&mut i, "x"));
+        assert_eq!((named(&mut i, "friction_mode"), named(&mut i, "state_events")), (0.0, 1.0));
     }
 
     #[test]

@@ -130,3 +130,27 @@ impl Model for Block {
     }
     fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
 }
+
+/// `Block` integrated by the implicit solver: the same events, located on esdirk34's dense output.
+pub struct ImplicitBlock(Block);
+
+impl Model for ImplicitBlock {
+    fn info() -> ModelInfo {
+        ModelInfo { solver: Solver::ImplicitRungeKutta, ..Block::info() }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        ImplicitBlock(Block::declare(d))
+    }
+    fn event_indicators(&self, k: &Knowns, z: &mut crate::values::EventIndicators) {
+        self.0.event_indicators(k, z)
+    }
+    fn update_modes(&self, k: &Knowns, next: &mut crate::values::ModeUpdate) {
+        self.0.update_modes(k, next)
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        self.0.derivatives(k, der)
+    }
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        self.0.outputs(k, out)
+    }
+}
