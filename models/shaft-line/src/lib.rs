@@ -168,13 +168,13 @@ impl ShaftLine {
         let m = &line.machine;
         let voltage = self.voltage(k);
         let i = k[self.current];
-        let current_rate = m.current_rate_a_per_s(voltage, i, k[self.w_propeller]);
         let motor_torque = m.torque_n_m(i);
         let mut op = Operating { voltage, motor_torque, ..Operating::default() };
         if self.reduced(k) {
             // Rigid shaft, massless motor rotor, no bearings, no seal: L di/dt = U - R i - k w,
             // J_p dw/dt = k i - a w |w|; the shaft carries the motor torque.
             let w = k[self.w_propeller];
+            let current_rate = m.current_rate_a_per_s(voltage, i, w);
             op.current_rate = current_rate;
             op.motor_speed = w;
             op.propeller_speed = w;
