@@ -37,7 +37,8 @@ type Vect = NalgebraVec<f64>;
 type RhsFn = Box<dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync>;
 type JacFn = Box<dyn Fn(&[f64], &[f64], f64, &[f64], &mut [f64]) + Send + Sync>;
 type InitFn = Box<dyn Fn(&[f64], f64, &mut [f64]) + Send + Sync>;
-type IndicatorFn = Box<dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync>;
+type IndicatorDyn = dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync;
+type IndicatorFn = Box<IndicatorDyn>;
 type Unit = UnitCallable<Mat>;
 type Equations = OdeSolverEquations<Mat, Closure<Mat, RhsFn, JacFn>, ConstantClosure<Mat, InitFn>, Unit, Unit, Unit, Unit>;
 
@@ -272,7 +273,7 @@ fn check_finite(x: &[f64], t: f64) -> Result<(), String> {
 
 /// The event indicators of one advance: g(x, p, t, z) with its parameter vector.
 struct Events<'a> {
-    g: &'a (dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync),
+    g: &'a IndicatorDyn,
     p: &'a [f64],
     n: usize,
 }
@@ -388,7 +389,11 @@ where
                 side = -1;
             }
         }
-        if best.as_ref().map_or(true, |(t, _, _)| hi < *t) {
+        let earlier = match &best {
+            Some((t, _, _)) => hi < *t,
+            None => true,
+        };
+        if earlier {
             best = Some((hi, j, y_hi));
         }
     }

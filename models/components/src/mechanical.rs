@@ -154,8 +154,8 @@ impl CoulombFriction {
     /// that stopped sticks if the friction can hold it, else slips the way it is pushed; a stuck
     /// body breaks loose in the direction of the required torque; a "stuck" body that moves (start
     /// values) slips in its direction of motion. A mode holds exactly while its `indicator` is
-    /// > 0 (the FMI convention for an indicator's two domains), so the update always agrees with
-    /// the crossing that triggered it, even where the located point has the indicator at exactly 0.
+    /// positive (the FMI convention for an indicator's two domains), so the update always agrees
+    /// with the crossing that triggered it, even where the located point has the indicator at 0.
     pub fn next_mode(&self, mode: i32, speed_rad_per_s: f64, required_n_m: f64) -> (i32, bool) {
         let pushed = if required_n_m > 0.0 { 1 } else { -1 };
         let holds = self.indicator(0, 0.0, required_n_m) > 0.0;

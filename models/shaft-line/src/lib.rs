@@ -18,6 +18,7 @@
 //! * 45 t, 6 m, 41 t, 25 cm, 4.5 m: masses and dimensions (motor and propeller masses, propeller
 //!   diameter, shaft diameter and length) that the torsional model does not use; the shaft's
 //!   stiffness and inertia agree with a steel shaft of that size (J = rho L^2 K / G = 13-23 kg m2).
+//!
 //! Derived: k from the rated point (eq. 3.9, E = U - R I, k = E/w = C/I: 53.63 V s/rad, 3263 A),
 //! propeller a = T_rated / w_rated^2 = 1108 N m s2/rad2.
 
