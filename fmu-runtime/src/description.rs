@@ -215,7 +215,8 @@ pub fn structure<M: Model>(model: &M, table: &VariableTable, t: f64) -> Structur
             Slot::Known(i) if v.causality == Causality::Input => Known::Real(v, i),
             Slot::Known(_) if table.state_index(v).is_some() => Known::State(v, table.state_index(v).expect("a declared state")),
             Slot::Known(i) => Known::Real(v, i),
-            Slot::Integer(i) => Known::Integer(v, i),
+            // Discrete modes (Integer locals) are no knowns: they hold between events.
+            Slot::Integer(i) if v.causality == Causality::Parameter => Known::Integer(v, i),
             Slot::Boolean(i) => Known::Boolean(v, i),
             _ => continue,
         };
@@ -303,14 +304,16 @@ fn variable_attributes(v: &Variable) -> Vec<(&'static str, String)> {
 fn write_variable(w: &mut Xml, v: &Variable, table: &VariableTable) {
     open(w, "ScalarVariable", &variable_attributes(v));
     let mut t = Vec::new();
-    match v.start {
+    // A calculated variable has no start attribute (a mode's start is only the model's first guess).
+    let start = if v.initial == Some(Initial::Calculated) { None } else { v.start };
+    match start {
         Some(Start::Real(x)) => t.push(("start", real_text(x))),
         Some(Start::Integer(n)) => t.push(("start", n.to_string())),
         Some(Start::Boolean(b)) => t.push(("start", yes_no(b))),
         None => {}
     }
-    match v.start {
-        Some(Start::Integer(_)) => {
+    match v.base_type() {
+        crate::variables::BaseType::Integer => {
             if let Some(m) = v.min {
                 t.push(("min", (m as i32).to_string()));
             }
@@ -319,7 +322,7 @@ fn write_variable(w: &mut Xml, v: &Variable, table: &VariableTable) {
             }
             empty(w, "Integer", &t);
         }
-        Some(Start::Boolean(_)) => empty(w, "Boolean", &t),
+        crate::variables::BaseType::Boolean => empty(w, "Boolean", &t),
         _ => {
             if let Some(of) = v.derivative_of {
                 t.push(("derivative", (table.variables[of as usize].value_reference as usize + 1).to_string()));
@@ -385,7 +388,7 @@ fn write_xml<M: Model>(table: &VariableTable, structure: &Structure) -> String {
             ("guid", GUID_PLACEHOLDER.into()),
             ("description", info.description.into()),
             ("generationTool", format!("fmu-runtime {}", env!("CARGO_PKG_VERSION"))),
-            ("numberOfEventIndicators", "0".into()),
+            ("numberOfEventIndicators", table.indicators.len().to_string()),
         ],
     );
     empty(
@@ -510,6 +513,24 @@ mod tests {
         assert_eq!(d.guid, ModelDescription::of::<Decay>().guid, "deterministic");
         assert!(d.xml.contains(r#"<Real unit="Hz/s" derivative="3"/>"#) || d.xml.contains(r#"derivative="3""#));
         assert!(d.xml.contains(r#"<Unit name="Hz">"#));
+    }
+
+    #[test]
+    fn modes_are_discrete_integer_locals_and_indicators_are_counted() {
+        let d = ModelDescription::of::<crate::test_model::Block>();
+        assert!(d.xml.contains(r#"numberOfEventIndicators="1""#), "{}", d.xml);
+        assert!(
+            d.xml.contains(r#"name="friction_mode" valueReference="8" description="-1 slipping backwards, 0 stuck, 1 slipping forwards" causality="local" variability="discrete" initial="calculated">"#),
+            "{}",
+            d.xml
+        );
+        assert!(d.xml.contains(r#"<Integer min="-1" max="1"/>"#), "no start for a calculated mode: {}", d.xml);
+        assert!(d.xml.contains(r#"name="state_events""#));
+        // A mode is no known: no dependency names it (x=5, v=7, u=4 are; friction_mode is 9).
+        for (_, deps) in d.structure.derivatives.iter().chain(&d.structure.outputs) {
+            assert!(!deps.as_ref().is_some_and(|s| s.contains(&9)));
+        }
+        assert_eq!(ModelDescription::of::<Decay>().xml.contains(r#"numberOfEventIndicators="0""#), true);
     }
 
     #[test]

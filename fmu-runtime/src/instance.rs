@@ -11,12 +11,12 @@
 use std::sync::Arc;
 
 use crate::fmi2::types::{fmi2Discard, fmi2Error, fmi2OK, fmi2Status, fmi2Warning};
-use crate::integrate::{negligible_interval, InputMotion, Integrator, DEFAULT_RELATIVE_TOLERANCE};
+use crate::integrate::{negligible_interval, Advanced, InputMotion, Integrator, DEFAULT_RELATIVE_TOLERANCE};
 use crate::lifecycle::Mode;
 use crate::log::Logger;
 use crate::model::{evaluate, Model, ModelInfo, RuntimeVariables};
 use crate::state::{Experiment, Shape, Snapshot, SnapshotStore};
-use crate::values::{Knowns, Values};
+use crate::values::{EventIndicators, Knowns, ModeUpdate, Values};
 use crate::variables::{BaseType, Slot, Variable, VariableTable};
 
 /// Why a call did not return fmi2OK: the status to return and the message for the logger.
@@ -37,6 +37,13 @@ pub type CallResult<T = ()> = Result<T, Failure>;
 /// Time events one communication step may hold before the step is refused (a model announcing
 /// events that do not advance would otherwise loop forever).
 pub const MAX_EVENTS_PER_STEP: usize = 10_000;
+
+/// Passes of `Model::update_modes` at one event before the modes are declared unsettled (a
+/// model whose update rules contradict each other would otherwise loop forever).
+pub const MAX_MODE_ITERATIONS: usize = 50;
+
+/// State events at one instant (within rounding) before a step is refused as chattering.
+pub const MAX_EVENTS_AT_ONE_INSTANT: usize = 100;
 
 /// A value a master can get or set, typed as FMI types it.
 pub trait FmiValue: Copy {
@@ -115,6 +122,7 @@ pub struct EventInfo {
     pub new_discrete_states_needed: bool,
     pub terminate_simulation: bool,
     pub nominals_changed: bool,
+    /// valuesOfContinuousStatesChanged: a mode update re-initialized a state.
     pub values_changed: bool,
     pub next_event_time: Option<f64>,
 }
@@ -326,6 +334,7 @@ impl<M: Model> Instance<M> {
             self.mode = Mode::Error;
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
+        self.settle_initial_modes()?;
         if self.interface == Interface::ModelExchange {
             self.mode = Mode::EventMode;
             self.stale = true;
@@ -365,6 +374,7 @@ impl<M: Model> Instance<M> {
             &self.values.integers,
             &self.values.booleans,
             self.table.n_states,
+            self.table.indicators.len(),
             self.info.solver,
             self.experiment.tolerance.unwrap_or(DEFAULT_RELATIVE_TOLERANCE),
             &self.table.state_nominals(),
@@ -442,13 +452,38 @@ impl<M: Model> Instance<M> {
         slopes
     }
 
-    /// Integrates from `t` to `t_end`, stopping at every time event the model announces.
+    /// Integrates from `t` to `t_end`, stopping at every time event the model announces and at
+    /// every zero crossing of an event indicator, where the modes are updated and the solver
+    /// restarts. On failure the modes are those of `t` again (the step is discarded).
     fn integrate(&mut self, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64]) -> Result<(), String> {
-        let integrator = self.integrator.as_mut().expect("made at the end of initialization");
-        let v = &self.values;
-        let motion = InputMotion { slopes, curvatures: &self.input_curvatures, since: t };
+        let mut integrator = self.integrator.take().ok_or("the instance has no ODE solver (initialization did not finish)")?;
+        let (modes, step_size) = (self.values.integers.clone(), integrator.step_size);
+        let result = self.integrate_with(&mut integrator, t, x, t_end, slopes);
+        if result.is_err() && self.values.integers != modes {
+            self.values.integers = modes;
+            integrator = self.make_integrator()?;
+            integrator.step_size = step_size;
+        }
+        self.integrator = Some(integrator);
+        result
+    }
+
+    fn integrate_with(&mut self, integrator: &mut Integrator, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64]) -> Result<(), String> {
+        let curvatures = self.input_curvatures.clone();
+        // Inputs or tunable parameters set at this communication point may change the modes
+        // (a force above the static friction breaks a stuck body loose) without any indicator
+        // crossing zero during integration.
+        let known = self.values.known.clone();
+        if self.settle_modes(t, &known, x)?.0 {
+            let step_size = integrator.step_size;
+            *integrator = self.make_integrator()?;
+            integrator.step_size = step_size;
+        }
         let mut now = t;
+        let (mut last_event, mut at_one_instant) = (f64::NEG_INFINITY, 0usize);
         for _ in 0..MAX_EVENTS_PER_STEP {
+            let v = &self.values;
+            let motion = InputMotion { slopes, curvatures: &curvatures, since: t };
             let k = Knowns::new(now, &v.known, x, &v.integers, &v.booleans);
             // An event within rounding of the step's end is taken as the end (a master's
             // float time 9.999999999999897 s for an event at 10 s).
@@ -457,14 +492,96 @@ impl<M: Model> Instance<M> {
                 Some(event) if event > now && event < t_end - tiny => event,
                 _ => t_end,
             };
-            integrator.advance(&v.known, &motion, now, x, next)?;
-            if next == t_end {
-                return Ok(());
+            let how = integrator.advance(&v.known, &motion, now, x, next)?;
+            match how {
+                Advanced::Reached if next == t_end => return Ok(()),
+                Advanced::Reached => {
+                    self.logger.log(fmi2OK, &format!("time event at t = {next} s"));
+                    now = next;
+                }
+                Advanced::Crossing { time, indicator } => {
+                    if time - last_event <= negligible_interval(time) {
+                        at_one_instant += 1;
+                        if at_one_instant >= MAX_EVENTS_AT_ONE_INSTANT {
+                            return Err(format!(
+                                "{MAX_EVENTS_AT_ONE_INSTANT} state events at t = {time} s without time advancing \
+                                 (the modes chatter: event indicator '{}')",
+                                self.table.indicators[indicator].0
+                            ));
+                        }
+                    } else {
+                        at_one_instant = 0;
+                    }
+                    last_event = time;
+                    self.logger.log(fmi2OK, &format!("state event at t = {time} s: '{}' crossed zero", self.table.indicators[indicator].0));
+                    if let Some(counter) = self.runtime.state_events {
+                        self.values.integers[counter.0] = self.values.integers[counter.0].saturating_add(1);
+                    }
+                    now = time;
+                }
             }
-            self.logger.log(fmi2OK, &format!("time event at t = {next} s"));
-            now = next;
+            // The modes after the event (a time event may change them too: a voltage step can
+            // break a stuck body loose). The solver is re-made with the new modes.
+            let known = self.knowns_moved_to(now, t, slopes, &curvatures);
+            let (modes_changed, _) = self.settle_modes(now, &known, x)?;
+            if modes_changed {
+                let step_size = integrator.step_size;
+                *integrator = self.make_integrator()?;
+                integrator.step_size = step_size;
+            }
         }
-        Err(format!("more than {MAX_EVENTS_PER_STEP} time events in one communication step"))
+        Err(format!("more than {MAX_EVENTS_PER_STEP} events in one communication step"))
+    }
+
+    /// The known reals at `now` with the inputs moved along their derivatives since `since`.
+    fn knowns_moved_to(&self, now: f64, since: f64, slopes: &[f64], curvatures: &[f64]) -> Vec<f64> {
+        let tau = now - since;
+        (0..self.values.known.len())
+            .map(|i| self.values.known[i] + slopes[i] * tau + 0.5 * curvatures[i] * tau * tau)
+            .collect()
+    }
+
+    /// Runs `Model::update_modes` at (time, known, x) until neither a mode nor a state changes;
+    /// returns (modes changed, states changed). Only the model's modes can change: the handles
+    /// of `ModeUpdate` are the modes it declared.
+    fn settle_modes(&mut self, time: f64, known: &[f64], x: &mut [f64]) -> Result<(bool, bool), String> {
+        let (mut modes_changed, mut states_changed) = (false, false);
+        for _ in 0..MAX_MODE_ITERATIONS {
+            let mut modes = self.values.integers.clone();
+            let mut states = x.to_vec();
+            let reinitialized = {
+                let k = Knowns::new(time, known, x, &self.values.integers, &self.values.booleans);
+                let mut next = ModeUpdate::new(&mut modes, &mut states);
+                self.model.update_modes(&k, &mut next);
+                next.reinitialized()
+            };
+            let changed = modes != self.values.integers;
+            if !changed && !reinitialized {
+                return Ok((modes_changed, states_changed));
+            }
+            if let Some(i) = states.iter().position(|v| !v.is_finite()) {
+                return Err(format!("the mode update at t = {time} s set state {i} to {}", states[i]));
+            }
+            self.values.integers = modes;
+            x.copy_from_slice(&states);
+            modes_changed |= changed;
+            states_changed |= reinitialized;
+            self.stale = true;
+        }
+        Err(format!("the discrete modes did not settle after {MAX_MODE_ITERATIONS} updates at t = {time} s"))
+    }
+
+    /// At the end of initialization: the modes that fit the start values (e.g. a body at rest
+    /// sticks). A failure moves the instance to the Error mode.
+    fn settle_initial_modes(&mut self) -> CallResult {
+        let (known, mut x) = (self.values.known.clone(), self.states.clone());
+        if let Err(message) = self.settle_modes(self.time, &known, &mut x) {
+            self.mode = Mode::Error;
+            return Err(Failure::error(format!("initialization failed: {message}")));
+        }
+        self.states = x;
+        self.store_states();
+        Ok(())
     }
 
     pub fn terminate(&mut self) -> CallResult {
@@ -576,13 +693,27 @@ impl<M: Model> Instance<M> {
         Ok(())
     }
 
-    /// fmi2NewDiscreteStates: the models have no discrete states; the next time event is
-    /// the model's next kink after the current time.
+    /// fmi2NewDiscreteStates: the model's modes are updated until they settle (so one call
+    /// suffices: newDiscreteStatesNeeded is false); valuesOfContinuousStatesChanged when the
+    /// update re-initialized a state; the next time event is the model's next kink after now.
     pub fn new_discrete_states(&mut self) -> CallResult<EventInfo> {
+        let (known, mut x) = (self.values.known.clone(), self.states.clone());
+        let (modes_changed, states_changed) = self.settle_modes(self.time, &known, &mut x).map_err(Failure::error)?;
+        if states_changed {
+            self.states = x;
+            self.store_states();
+        }
+        if modes_changed || states_changed {
+            if let Some(counter) = self.runtime.state_events {
+                self.values.integers[counter.0] = self.values.integers[counter.0].saturating_add(1);
+            }
+            self.stale = true;
+            self.debug(&format!("event at t = {} s: modes or states changed", self.time));
+        }
         let v = &self.values;
         let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
         let next_event_time = self.model.next_time_event(&k, self.time);
-        Ok(EventInfo { next_event_time, ..EventInfo::default() })
+        Ok(EventInfo { next_event_time, values_changed: states_changed, ..EventInfo::default() })
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> CallResult {
@@ -638,9 +769,15 @@ impl<M: Model> Instance<M> {
         Ok(())
     }
 
-    /// fmi2GetEventIndicators: the models have none yet (numberOfEventIndicators = 0).
+    /// fmi2GetEventIndicators: the model's indicators at the current time, states and modes.
     pub fn get_event_indicators(&mut self, z: &mut [f64]) -> CallResult {
-        self.check_length(z.len(), "event indicators", 0)
+        self.check_length(z.len(), "event indicators", self.table.indicators.len())?;
+        self.refresh();
+        let v = &self.values;
+        let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
+        z.fill(0.0);
+        self.model.event_indicators(&k, &mut EventIndicators::new(z));
+        Ok(())
     }
 
     /// fmi2CompletedIntegratorStep: (enter event mode, terminate): never needed here.
@@ -1051,6 +1188,138 @@ mod tests {
         let mut x = [0.0];
         i.get(&[1], &mut x).unwrap();
         assert!((x[0] - 0.05).abs() < 1e-9, "{}", x[0]);
+    }
+
+    fn block(interface: Interface) -> Instance<crate::test_model::Block> {
+        block_of(interface)
+    }
+
+    fn block_of<M: Model>(interface: Interface) -> Instance<M> {
+        let mut i = Instance::<M>::for_interface(interface, "{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        i.setup_experiment(Some(1e-8), 0.0, None).unwrap();
+        i.enter_initialization_mode().unwrap();
+        i.exit_initialization_mode().unwrap();
+        i
+    }
+
+    fn named<M: Model>(i: &mut Instance<M>, name: &str) -> f64 {
+        let var = i.table().by_name(name).unwrap_or_else(|| panic!("{name}"));
+        let vr = var.value_reference;
+        if var.base_type() == BaseType::Integer {
+            let mut n = [0];
+            i.get(&[vr], &mut n).unwrap();
+            n[0] as f64
+        } else {
+            let mut x = [0.0];
+            i.get(&[vr], &mut x).unwrap();
+            x[0]
+        }
+    }
+
+    #[test]
+    fn a_sliding_block_sticks_once_and_stays_stuck() {
+        // m = 1 kg, v0 = 3 m/s, F_c = 1.5 N: v = 3 - 1.5 t until t = 2 s, x = 3 - 0.75 t^2 ... = 3 m
+        // at rest (x = v0^2 m / (2 F_c)). With sign(v) friction the block would chatter about
+        // v = 0; with modes it sticks at one located event and v is exactly 0 afterwards.
+        let mut i = block(Interface::CoSimulation);
+        assert_eq!(named(&mut i, "friction_mode"), 1.0, "v0 > 0: slipping forwards from the start");
+        for n in 0..7 {
+            i.do_step(n as f64 * 0.5, 0.5).unwrap();
+        }
+        assert!((named(&mut i, "x") - 3.0).abs() < 1e-9, "{}", named(&mut i, "x"));
+        assert_eq!(named(&mut i, "v"), 0.0);
+        assert_eq!(named(&mut i, "friction_mode"), 0.0);
+        assert_eq!(named(&mut i, "state_events"), 1.0, "one event: slip -> stick");
+        // A force below the static friction (2 N) does not move it: no event, x holds.
+        let u = i.table().by_name("u").unwrap().value_reference;
+        i.set(&[u], &[1.9]).unwrap();
+        i.do_step(3.5, 1.0).unwrap();
+        assert!((named(&mut i, "x") - 3.0).abs() < 1e-9);
+        assert_eq!(named(&mut i, "state_events"), 1.0);
+        // Above it, it breaks loose at the communication point: a = (2.5 - 1.5) / 1 m/s2.
+        i.set(&[u], &[2.5]).unwrap();
+        i.do_step(4.5, 1.0).unwrap();
+        assert_eq!(named(&mut i, "friction_mode"), 1.0);
+        assert!((named(&mut i, "v") - 1.0).abs() < 1e-9);
+        assert!((named(&mut i, "x") - 3.5).abs() < 1e-9);
+        // Pushed back with 1 N (< F_s but > 0): decelerates at (1 + 1.5) m/s2, sticks at 5.9 s.
+        i.set(&[u], &[-1.0]).unwrap();
+        i.do_step(5.5, 1.0).unwrap();
+        assert_eq!(named(&mut i, "friction_mode"), 0.0);
+        assert_eq!(named(&mut i, "state_events"), 2.0);
+        assert!((named(&mut i, "x") - (3.5 + 1.0 / (2.0 * 2.5))).abs() < 1e-9, "{}", named(&mut i, "x"));
+    }
+
+    #[test]
+    fn the_crossing_is_located_inside_the_step() {
+        // The stick event of a 3 m/s block with F_c = 1.5 N is at 2 s; a step [1.5, 2.5] s ends
+        // there with v = 0 and x = 3 m, whatever the step; the indicator read after the step is the
+        // static margin F_s - |u| = 2 N.
+        let mut i = block(Interface::CoSimulation);
+        i.do_step(0.0, 1.5).unwrap();
+        assert!((named(&mut i, "v") - 0.75).abs() < 1e-9);
+        i.do_step(1.5, 1.0).unwrap();
+        assert_eq!(named(&mut i, "v"), 0.0);
+        assert!((named(&mut i, "x") - 3.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_implicit_solver_locates_the_same_event() {
+        let mut i = block_of::<crate::test_model::ImplicitBlock>(Interface::CoSimulation);
+        i.do_step(0.0, 1.5).unwrap();
+        i.do_step(1.5, 1.0).unwrap();
+        assert_eq!(named(&mut i, "v"), 0.0);
+        assert!((named(&mut i, "x") - 3.0).abs() < 1e-8, "{}", named(&mut i, "x"));
+        assert_eq!((named(&mut i, "friction_mode"), named(&mut i, "state_events")), (0.0, 1.0));
+    }
+
+    #[test]
+    fn modes_are_part_of_fmu_states_and_reset() {
+        let mut i = block(Interface::CoSimulation);
+        i.do_step(0.0, 1.0).unwrap();
+        let saved = i.get_fmu_state(None).unwrap();
+        let bytes = i.serialize_fmu_state(saved).unwrap();
+        i.do_step(1.0, 2.0).unwrap();
+        let (x_end, events_end) = (named(&mut i, "x"), named(&mut i, "state_events"));
+        assert_eq!((named(&mut i, "friction_mode"), events_end), (0.0, 1.0));
+        i.set_fmu_state(saved).unwrap();
+        assert_eq!((named(&mut i, "friction_mode"), named(&mut i, "state_events")), (1.0, 0.0));
+        i.do_step(1.0, 2.0).unwrap();
+        assert_eq!(named(&mut i, "x").to_bits(), x_end.to_bits());
+        let restored = i.deserialize_fmu_state(&bytes, None).unwrap();
+        i.set_fmu_state(restored).unwrap();
+        assert_eq!(named(&mut i, "friction_mode"), 1.0, "deserialized");
+        i.reset().unwrap();
+        i.enter_initialization_mode().unwrap();
+        i.exit_initialization_mode().unwrap();
+        assert_eq!((named(&mut i, "friction_mode"), named(&mut i, "state_events")), (1.0, 0.0));
+    }
+
+    #[test]
+    fn model_exchange_reports_indicators_and_updates_modes() {
+        let mut i = block(Interface::ModelExchange);
+        let mut z = [0.0];
+        i.get_event_indicators(&mut z).unwrap();
+        assert_eq!(z, [3.0], "slipping forwards: z = v");
+        assert!(i.get_event_indicators(&mut [0.0, 0.0]).is_err());
+        assert!(!i.new_discrete_states().unwrap().values_changed, "the modes were settled at initialization");
+        i.enter_continuous_time_mode().unwrap();
+        i.set_time(2.0 + 1e-12).unwrap();
+        i.set_continuous_states(&[3.0, -1.5e-12]).unwrap();
+        i.get_event_indicators(&mut z).unwrap();
+        assert!(z[0] < 0.0, "the master sees the crossing");
+        i.enter_event_mode().unwrap();
+        let info = i.new_discrete_states().unwrap();
+        assert!(info.values_changed && !info.new_discrete_states_needed, "{info:?}");
+        let mut x = [0.0; 2];
+        i.get_continuous_states(&mut x).unwrap();
+        assert_eq!(x, [3.0, 0.0], "stuck: v re-initialized to 0");
+        assert_eq!((named(&mut i, "friction_mode"), named(&mut i, "state_events")), (0.0, 1.0));
+        i.get_event_indicators(&mut z).unwrap();
+        assert_eq!(z, [2.0], "stuck: the static margin F_s - |u|");
+        let mut dx = [1.0; 2];
+        i.get_derivatives(&mut dx).unwrap();
+        assert_eq!(dx, [0.0, 0.0]);
     }
 
     #[test]

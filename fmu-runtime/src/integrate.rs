@@ -10,6 +10,15 @@
 //! so that an FMU state saved and restored (or serialized) continues bit-identically: nothing
 //! else carries over between steps. The instance keeps its own exact time; the solver's time
 //! after `TstopReached` is never trusted over it.
+//!
+//! State events: a model with event indicators gets them evaluated after every accepted internal
+//! step (with the modes of this segment, which hold over it). Where one changes sign — from > 0
+//! to <= 0 or from < 0 to >= 0; a zero at the start of a segment is no crossing, its sign is taken
+//! from the next step — the crossing is located by the Illinois method on the solver's dense
+//! output of that step, to `ROOT_TIME_TOLERANCE`, and `advance` stops there, on the far side
+//! of the crossing (the side where the indicator has changed sign), so the instance updates the
+//! modes and restarts the solver from that point. The equations stay smooth inside a segment
+//! (the modes only change between segments), so the dense output past the crossing is accurate.
 
 use std::sync::Arc;
 
@@ -21,13 +30,15 @@ use diffsol::{
 use diffsol::ode_solver::state::StateCommon;
 
 use crate::model::{Model, Solver};
-use crate::values::{Derivatives, Knowns};
+use crate::values::{Derivatives, EventIndicators, Knowns};
 
 type Mat = NalgebraMat<f64>;
 type Vect = NalgebraVec<f64>;
 type RhsFn = Box<dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync>;
 type JacFn = Box<dyn Fn(&[f64], &[f64], f64, &[f64], &mut [f64]) + Send + Sync>;
 type InitFn = Box<dyn Fn(&[f64], f64, &mut [f64]) + Send + Sync>;
+type IndicatorDyn = dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync;
+type IndicatorFn = Box<IndicatorDyn>;
 type Unit = UnitCallable<Mat>;
 type Equations = OdeSolverEquations<Mat, Closure<Mat, RhsFn, JacFn>, ConstantClosure<Mat, InitFn>, Unit, Unit, Unit, Unit>;
 
@@ -41,6 +52,10 @@ pub const MAX_INTERNAL_STEPS: usize = 200_000;
 pub fn negligible_interval(t: f64) -> f64 {
     1e3 * f64::EPSILON * t.abs().max(1.0)
 }
+
+/// A zero crossing is located to within this fraction of max(|t|, 1 s) (about 2e-13 s at 1 s,
+/// 9e-11 s at 400 s): far below any physical time scale, above the rounding of t.
+pub const ROOT_TIME_TOLERANCE: f64 = 1e3 * f64::EPSILON;
 
 /// Relative tolerance when the master gives none in fmi2SetupExperiment.
 pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-7;
@@ -68,29 +83,61 @@ fn parameters(known: &[f64], motion: &InputMotion) -> Vec<f64> {
     p
 }
 
+/// Calls `f` with the knowns at t from the parameter vector of `parameters`: extrapolated to t
+/// only when some input moves.
+fn knowns_at<R>(p: &[f64], n_known: usize, t: f64, f: impl FnOnce(&[f64]) -> R) -> R {
+    let known = &p[..n_known];
+    if p[3 * n_known + 1] == 0.0 {
+        return f(known);
+    }
+    let tau = t - p[3 * n_known];
+    let (slopes, curvatures) = (&p[n_known..2 * n_known], &p[2 * n_known..3 * n_known]);
+    let moved: Vec<f64> = (0..n_known).map(|i| known[i] + slopes[i] * tau + 0.5 * curvatures[i] * tau * tau).collect();
+    f(&moved)
+}
+
 /// The right-hand side f(t, x) of a model, as diffsol calls it, with the parameter vector of
-/// `parameters`: the knowns are extrapolated to t only when some input moves.
+/// `parameters`.
 fn rhs_of<M: Model>(model: Arc<M>, integers: Arc<[i32]>, booleans: Arc<[bool]>, n_known: usize) -> impl Fn(&[f64], &[f64], f64, &mut [f64]) + Clone {
     move |x: &[f64], p: &[f64], t: f64, dx: &mut [f64]| {
         dx.fill(0.0);
-        let known = &p[..n_known];
-        if p[3 * n_known + 1] == 0.0 {
-            let k = Knowns::new(t, known, x, &integers, &booleans);
-            model.derivatives(&k, &mut Derivatives::new(dx));
-            return;
-        }
-        let tau = t - p[3 * n_known];
-        let (slopes, curvatures) = (&p[n_known..2 * n_known], &p[2 * n_known..3 * n_known]);
-        let moved: Vec<f64> = (0..n_known).map(|i| known[i] + slopes[i] * tau + 0.5 * curvatures[i] * tau * tau).collect();
-        let k = Knowns::new(t, &moved, x, &integers, &booleans);
-        model.derivatives(&k, &mut Derivatives::new(dx));
+        knowns_at(p, n_known, t, |known| {
+            model.derivatives(&Knowns::new(t, known, x, &integers, &booleans), &mut Derivatives::new(dx))
+        })
     }
+}
+
+/// The event indicators z(t, x) of a model, with the parameter vector of `parameters`.
+fn indicators_of<M: Model>(model: Arc<M>, integers: Arc<[i32]>, booleans: Arc<[bool]>, n_known: usize) -> impl Fn(&[f64], &[f64], f64, &mut [f64]) {
+    move |x: &[f64], p: &[f64], t: f64, z: &mut [f64]| {
+        z.fill(0.0);
+        knowns_at(p, n_known, t, |known| {
+            model.event_indicators(&Knowns::new(t, known, x, &integers, &booleans), &mut EventIndicators::new(z))
+        })
+    }
+}
+
+/// How `advance` ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Advanced {
+    /// The end of the interval was reached.
+    Reached,
+    /// Event indicator `indicator` changed sign; the state is that just past the crossing at `time`.
+    Crossing { time: f64, indicator: usize },
+}
+
+/// Whether an indicator going from `a` to `b` crossed zero (a zero at `a` is no crossing).
+pub fn crossed(a: f64, b: f64) -> bool {
+    (a > 0.0 && b <= 0.0) || (a < 0.0 && b >= 0.0)
 }
 
 /// One instance's ODE integrator.
 pub struct Integrator {
     problem: OdeSolverProblem<Equations>,
     rhs: RhsFn,
+    /// The model's event indicators, with the modes fixed when this integrator was made.
+    indicators: Option<IndicatorFn>,
+    n_indicators: usize,
     method: Solver,
     rtol: f64,
     atol: Vec<f64>,
@@ -107,12 +154,15 @@ impl Integrator {
         integers: &[i32],
         booleans: &[bool],
         n_states: usize,
+        n_indicators: usize,
         method: Solver,
         rtol: f64,
         nominals: &[f64],
     ) -> Result<Self, String> {
         let integers: Arc<[i32]> = integers.into();
         let booleans: Arc<[bool]> = booleans.into();
+        let indicators = (n_indicators > 0)
+            .then(|| Box::new(indicators_of(model.clone(), integers.clone(), booleans.clone(), known.len())) as IndicatorFn);
         let f = rhs_of(model, integers, booleans, known.len());
         let f_jac = f.clone();
         // Jacobian-vector product by a forward difference along v (exact Jacobians come with
@@ -144,15 +194,16 @@ impl Integrator {
             .init(init, n_states)
             .build()
             .map_err(|e| format!("could not set up the ODE solver: {e}"))?;
-        Ok(Integrator { problem, rhs, method, rtol, atol, step_size: None })
+        Ok(Integrator { problem, rhs, indicators, n_indicators, method, rtol, atol, step_size: None })
     }
 
-    /// Advances `x` from `t0` to `t1` with the knowns at `known` moving as `motion` says. On
-    /// error `x` is left unchanged and the message says why (reported through the FMI logger).
-    pub fn advance(&mut self, known: &[f64], motion: &InputMotion, t0: f64, x: &mut [f64], t1: f64) -> Result<(), String> {
+    /// Advances `x` from `t0` to `t1` with the knowns at `known` moving as `motion` says, or
+    /// to the first zero crossing of an event indicator before `t1`. On error `x` is left
+    /// unchanged and the message says why (reported through the FMI logger).
+    pub fn advance(&mut self, known: &[f64], motion: &InputMotion, t0: f64, x: &mut [f64], t1: f64) -> Result<Advanced, String> {
         let p = parameters(known, motion);
         if x.is_empty() {
-            return Ok(());
+            return Ok(Advanced::Reached);
         }
         // A step so short that t0 + h rounds to t0 (relative to t0) cannot be resolved by a
         // solver's stop time; one explicit Euler step is exact to O(h^2) there.
@@ -162,7 +213,7 @@ impl Integrator {
             for (xi, d) in x.iter_mut().zip(&dx) {
                 *xi += (t1 - t0) * d;
             }
-            return check_finite(x, t1);
+            return check_finite(x, t1).map(|_| Advanced::Reached);
         }
         let ctx = *self.problem.context();
         self.problem.eqn_mut().set_params(&Vect::from_slice(&p, ctx));
@@ -191,20 +242,25 @@ impl Integrator {
             let atol = Vect::from_slice(&self.atol, ctx);
             state.as_mut().set_step_size(self.problem.h0, &atol, self.rtol, &self.problem.eqn, order);
         }
-        let (y, h) = match self.method {
+        let events = self.indicators.as_ref().map(|g| Events { g: &**g, p: &p, n: self.n_indicators });
+        let (y, h, how) = match self.method {
             Solver::ExplicitRungeKutta => {
                 let solver = self.problem.tsit45_solver(state).map_err(|e| e.to_string())?;
-                run_to(solver, t1)?
+                run_to(solver, t0, x, t1, events)?
             }
             Solver::ImplicitRungeKutta => {
                 let solver = self.problem.esdirk34_solver::<NalgebraLU<f64>>(state).map_err(|e| e.to_string())?;
-                run_to(solver, t1)?
+                run_to(solver, t0, x, t1, events)?
             }
         };
-        check_finite(&y, t1)?;
+        let t_reached = match how {
+            Advanced::Reached => t1,
+            Advanced::Crossing { time, .. } => time,
+        };
+        check_finite(&y, t_reached)?;
         x.copy_from_slice(&y);
         self.step_size = Some(h);
-        Ok(())
+        Ok(how)
     }
 }
 
@@ -215,24 +271,61 @@ fn check_finite(x: &[f64], t: f64) -> Result<(), String> {
     }
 }
 
-/// Steps a solver until its stop time `t1`; returns the state at `t1` and the step size reached.
-fn run_to<'a, S>(mut solver: S, t1: f64) -> Result<(Vec<f64>, f64), String>
+/// The event indicators of one advance: g(x, p, t, z) with its parameter vector.
+struct Events<'a> {
+    g: &'a IndicatorDyn,
+    p: &'a [f64],
+    n: usize,
+}
+
+impl Events<'_> {
+    fn at(&self, t: f64, y: &[f64]) -> Vec<f64> {
+        let mut z = vec![0.0; self.n];
+        (self.g)(y, self.p, t, &mut z);
+        z
+    }
+}
+
+/// Steps a solver from (t0, x0) until its stop time `t1` or the first zero crossing of an event
+/// indicator; returns the state there, the step size reached and how it ended.
+fn run_to<'a, S>(mut solver: S, t0: f64, x0: &[f64], t1: f64, events: Option<Events>) -> Result<(Vec<f64>, f64, Advanced), String>
 where
     S: OdeSolverMethod<'a, Equations>,
 {
     solver.set_stop_time(t1).map_err(|e| format!("could not set the stop time {t1} s: {e}"))?;
+    // The indicators at the last accepted point; a zero takes its sign from the next point.
+    let mut z_prev = events.as_ref().map(|e| e.at(t0, x0)).unwrap_or_default();
+    let mut t_prev = t0;
     for _ in 0..MAX_INTERNAL_STEPS {
         match solver.step() {
-            Ok(OdeSolverStopReason::TstopReached) => {
+            Ok(reason) => {
+                let stopped = matches!(reason, OdeSolverStopReason::TstopReached);
                 let state = solver.state();
                 let h = state.h;
                 // Trust our own t1, not the solver's rounding of it.
-                let y = if state.t == t1 { state.y.clone_as_vec() } else {
-                    solver.interpolate(t1).map(|v| v.clone_as_vec()).unwrap_or_else(|_| state.y.clone_as_vec())
+                let (t, y) = if !stopped {
+                    (state.t, state.y.clone_as_vec())
+                } else if state.t == t1 {
+                    (t1, state.y.clone_as_vec())
+                } else {
+                    (t1, solver.interpolate(t1).map(|v| v.clone_as_vec()).unwrap_or_else(|_| state.y.clone_as_vec()))
                 };
-                return Ok((y, h));
+                if let Some(ev) = &events {
+                    let z = ev.at(t, &y);
+                    if let Some((time, indicator, y_root)) = first_crossing(&solver, ev, t_prev, &z_prev, t, &z, &y)? {
+                        return Ok((y_root, h, Advanced::Crossing { time, indicator }));
+                    }
+                    for (zp, zi) in z_prev.iter_mut().zip(&z) {
+                        if *zi != 0.0 || *zp == 0.0 {
+                            *zp = *zi;
+                        }
+                    }
+                }
+                t_prev = t;
+                if stopped {
+                    return Ok((y, h, Advanced::Reached));
+                }
             }
-            Ok(_) => {}
             Err(e) => {
                 return Err(format!("the ODE solver failed at t = {} s: {e}", solver.state().t));
             }
@@ -243,4 +336,66 @@ where
          (stopped at t = {} s); the model may be too stiff for its solver or unstable",
         solver.state().t
     ))
+}
+
+/// The earliest zero crossing within the last step [ta, tb] (indicators za at ta, zb at tb, state
+/// yb at tb), located by the Illinois method on the solver's dense output: (time just past the
+/// crossing, indicator, state there), or None.
+#[allow(clippy::too_many_arguments)]
+fn first_crossing<'a, S>(solver: &S, ev: &Events, ta: f64, za: &[f64], tb: f64, zb: &[f64], yb: &[f64]) -> Result<Option<(f64, usize, Vec<f64>)>, String>
+where
+    S: OdeSolverMethod<'a, Equations>,
+{
+    let mut best: Option<(f64, usize, Vec<f64>)> = None;
+    let state_at = |t: f64| -> Result<Vec<f64>, String> {
+        if t == tb {
+            return Ok(yb.to_vec());
+        }
+        solver.interpolate(t).map(|v| v.clone_as_vec()).map_err(|e| format!("could not interpolate the state at t = {t} s: {e}"))
+    };
+    for j in 0..ev.n {
+        if !crossed(za[j], zb[j]) {
+            continue;
+        }
+        // Bracket: g(lo) on the start side (za's sign), g(hi) crossed.
+        let (mut lo, mut g_lo) = (ta, za[j]);
+        let (mut hi, mut g_hi, mut y_hi) = (tb, zb[j], yb.to_vec());
+        let tol = ROOT_TIME_TOLERANCE * tb.abs().max(1.0);
+        let mut side = 0i8;
+        for _ in 0..200 {
+            if hi - lo <= tol {
+                break;
+            }
+            let secant = if g_lo != g_hi { hi - g_hi * (hi - lo) / (g_hi - g_lo) } else { 0.5 * (lo + hi) };
+            // Keep the trial point strictly inside, off the ends by a little.
+            let margin = 0.5 * tol;
+            let t = if secant.is_finite() { secant.clamp(lo + margin, hi - margin) } else { 0.5 * (lo + hi) };
+            let y = state_at(t)?;
+            let g = ev.at(t, &y)[j];
+            if crossed(za[j], g) {
+                hi = t;
+                g_hi = g;
+                y_hi = y;
+                if side == 1 {
+                    g_lo *= 0.5; // Illinois: the same end twice, halve the other's weight
+                }
+                side = 1;
+            } else {
+                lo = t;
+                g_lo = g;
+                if side == -1 {
+                    g_hi *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        let earlier = match &best {
+            Some((t, _, _)) => hi < *t,
+            None => true,
+        };
+        if earlier {
+            best = Some((hi, j, y_hi));
+        }
+    }
+    Ok(best)
 }

@@ -60,6 +60,6 @@ pub use model::{DefaultExperiment, Model, ModelInfo, Solver};
 /// Everything a model crate needs, in one import.
 pub mod prelude {
     pub use crate::model::{DefaultExperiment, Model, ModelInfo, Solver};
-    pub use crate::values::{Derivatives, InitialStates, Knowns, Outputs};
-    pub use crate::variables::{BooleanParameter, Declarations, Input, IntegerParameter, Local, Output, Parameter, State};
+    pub use crate::values::{Derivatives, EventIndicators, InitialStates, Knowns, ModeUpdate, Outputs};
+    pub use crate::variables::{BooleanParameter, Declarations, Indicator, Input, IntegerParameter, Local, Mode, Output, Parameter, State};
 }

@@ -1,7 +1,7 @@
 //! The `Model` trait: what a model author writes. Plain physics — declarations, derivatives,
 //! outputs — with no FMI, no XML and no unsafe code. The runtime derives the rest.
 
-use crate::values::{Derivatives, InitialStates, Knowns, Outputs};
+use crate::values::{Derivatives, EventIndicators, InitialStates, Knowns, ModeUpdate, Outputs};
 use crate::variables::Declarations;
 
 /// How `fmi2DoStep` integrates the model's ODE (see `integrate.rs`).
@@ -80,6 +80,20 @@ pub trait Model: Sized + Send + Sync + 'static {
     /// given a finite value, or initialization fails naming it. Other states keep their start.
     fn initial_states(&self, _k: &Knowns, _x0: &mut InitialStates) {}
 
+    /// The event indicators z at the knowns `k` (which include the current discrete modes,
+    /// `k[mode]`), one per `Declarations::event_indicator`. An event happens where an indicator
+    /// changes sign; a model makes each indicator continuous in time while its modes hold (e.g.
+    /// the speed of a slipping body, or the margin T_static - |T_required| of a stuck one).
+    fn event_indicators(&self, _k: &Knowns, _z: &mut EventIndicators) {}
+
+    /// At an event (and at the end of initialization): the discrete modes after it, from the
+    /// knowns `k` at the event. Write the new modes into `next` (it starts as the current ones);
+    /// `next.reinit(state, value)` sets a state where the physics says so. The runtime calls this
+    /// again until nothing changes (at most `MAX_MODE_ITERATIONS` times). Let a mode hold exactly
+    /// while its indicator is > 0: the point the runtime (or an ME master) stops at has the
+    /// indicator <= 0, possibly exactly 0, and the update must then leave the mode.
+    fn update_modes(&self, _k: &Knowns, _next: &mut ModeUpdate) {}
+
     /// The state derivatives dx/dt at the knowns `k`.
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives);
 
@@ -141,6 +155,8 @@ pub fn initialize_states<M: Model>(
 pub struct RuntimeVariables {
     /// `extrapolate_inputs`, for models with inputs.
     pub extrapolate_inputs: Option<crate::variables::BooleanParameter>,
+    /// `state_events`, for models with event indicators: how many state events were handled.
+    pub state_events: Option<crate::variables::Mode>,
 }
 
 /// Declares a model's variables, then the runtime's (after them, so the model's value
@@ -154,5 +170,11 @@ pub fn declare<M: Model>() -> (M, RuntimeVariables, crate::variables::VariableTa
              linearly through its values at the last two communication points (instead of holding it)",
         )
     });
-    (model, RuntimeVariables { extrapolate_inputs }, d.into_table())
+    let state_events = d.has_event_indicators().then(|| {
+        d.mode("state_events", 0).describe(
+            "Number of state events handled: in Co-Simulation each zero crossing of an event indicator located \
+             inside fmi2DoStep, in Model Exchange each event iteration in which a discrete mode or a state changed",
+        )
+    });
+    (model, RuntimeVariables { extrapolate_inputs, state_events }, d.into_table())
 }

@@ -110,3 +110,89 @@ impl Model for Relax {
         out[self.y] = k[self.t];
     }
 }
+
+/// A block with Coulomb friction, pushed by a force input: stick/slip with discrete modes (in
+/// rotational units, a rotor: x in rad, v in rad/s, forces in N m, mass in kg m2).
+/// m dv/dt = u - F_c mode while slipping (mode = +-1), v = 0 while stuck (mode = 0, |u| <= F_s).
+pub struct Block {
+    mass: Parameter,
+    f_coulomb: Parameter,
+    f_static: Parameter,
+    force: Input,
+    x: State,
+    v: State,
+    mode: crate::variables::Mode,
+    z: crate::variables::Indicator,
+}
+
+impl Model for Block {
+    fn info() -> ModelInfo {
+        ModelInfo {
+            name: "Block",
+            description: "stick/slip",
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 4.0, step_size: 0.1 },
+            solver: Solver::ExplicitRungeKutta,
+            documentation: "",
+        }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        Block {
+            mass: d.parameter("m", 1.0, "kg.m2").positive().describe("mass"),
+            f_coulomb: d.parameter("F_c", 1.5, "N.m").min(0.0).describe("Coulomb friction"),
+            f_static: d.parameter("F_s", 2.0, "N.m").min(0.0).describe("static friction"),
+            force: d.input("u", 0.0, "N.m").describe("applied force"),
+            x: d.state("x", 0.0, "rad").describe("position"),
+            v: d.state("v", 3.0, "rad/s").describe("velocity"),
+            mode: d.mode("friction_mode", 0).range(-1, 1).describe("-1 slipping backwards, 0 stuck, 1 slipping forwards"),
+            z: d.event_indicator("friction", "velocity while slipping, static margin while stuck"),
+        }
+    }
+    fn event_indicators(&self, k: &Knowns, z: &mut crate::values::EventIndicators) {
+        let mode = k[self.mode] as f64;
+        z[self.z] = if mode == 0.0 { k[self.f_static] - k[self.force].abs() } else { mode * k[self.v] };
+    }
+    fn update_modes(&self, k: &Knowns, next: &mut crate::values::ModeUpdate) {
+        let (v, u, mode) = (k[self.v], k[self.force], k[self.mode]);
+        let at_rest = |next: &mut crate::values::ModeUpdate| {
+            next.reinit(self.v, 0.0);
+            // Stuck while its indicator F_s - |u| is > 0 (a mode holds while its indicator is > 0).
+            next[self.mode] = if k[self.f_static] - u.abs() > 0.0 { 0 } else { u.signum() as i32 };
+        };
+        match mode {
+            0 if v != 0.0 => next[self.mode] = v.signum() as i32,
+            0 => at_rest(next),
+            m if (m as f64) * v <= 0.0 => at_rest(next),
+            _ => {}
+        }
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        let mode = k[self.mode] as f64;
+        der[self.x] = k[self.v];
+        der[self.v] = if mode == 0.0 { 0.0 } else { (k[self.force] - k[self.f_coulomb] * mode) / k[self.mass] };
+    }
+    fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
+}
+
+/// `Block` integrated by the implicit solver: the same events, located on esdirk34's dense output.
+pub struct ImplicitBlock(Block);
+
+impl Model for ImplicitBlock {
+    fn info() -> ModelInfo {
+        ModelInfo { solver: Solver::ImplicitRungeKutta, ..Block::info() }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        ImplicitBlock(Block::declare(d))
+    }
+    fn event_indicators(&self, k: &Knowns, z: &mut crate::values::EventIndicators) {
+        self.0.event_indicators(k, z)
+    }
+    fn update_modes(&self, k: &Knowns, next: &mut crate::values::ModeUpdate) {
+        self.0.update_modes(k, next)
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        self.0.derivatives(k, der)
+    }
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        self.0.outputs(k, out)
+    }
+}

@@ -7,7 +7,7 @@
 
 use std::ops::{Index, IndexMut};
 
-use crate::variables::{BooleanParameter, Input, IntegerParameter, Local, Output, Parameter, State};
+use crate::variables::{BooleanParameter, Indicator, Input, IntegerParameter, Local, Mode, Output, Parameter, State};
 
 /// The stores of one instance, each indexed by the slot the declaration gave.
 #[derive(Clone, Debug, PartialEq)]
@@ -160,5 +160,77 @@ impl Index<State> for InitialStates<'_> {
     type Output = f64;
     fn index(&self, x: State) -> &f64 {
         &self.states[x.state]
+    }
+}
+
+impl Index<Mode> for Knowns<'_> {
+    type Output = i32;
+    fn index(&self, m: Mode) -> &i32 {
+        &self.integers[m.0]
+    }
+}
+
+/// Where `Model::event_indicators` writes the indicators z, one per declared `Indicator`.
+pub struct EventIndicators<'a> {
+    pub(crate) z: &'a mut [f64],
+}
+
+impl<'a> EventIndicators<'a> {
+    pub fn new(z: &'a mut [f64]) -> Self {
+        EventIndicators { z }
+    }
+}
+
+impl Index<Indicator> for EventIndicators<'_> {
+    type Output = f64;
+    fn index(&self, i: Indicator) -> &f64 {
+        &self.z[i.0]
+    }
+}
+
+impl IndexMut<Indicator> for EventIndicators<'_> {
+    fn index_mut(&mut self, i: Indicator) -> &mut f64 {
+        &mut self.z[i.0]
+    }
+}
+
+/// What `Model::update_modes` may change at an event: the discrete modes (`next[mode] = 1`) and,
+/// where the physics says so, a continuous state's value (`next.reinit(speed, 0.0)`: a body
+/// that sticks stands exactly still).
+pub struct ModeUpdate<'a> {
+    pub(crate) integers: &'a mut [i32],
+    pub(crate) states: &'a mut [f64],
+    pub(crate) reinitialized: bool,
+}
+
+impl<'a> ModeUpdate<'a> {
+    pub fn new(integers: &'a mut [i32], states: &'a mut [f64]) -> Self {
+        ModeUpdate { integers, states, reinitialized: false }
+    }
+
+    /// Sets a continuous state to a new value at this event.
+    pub fn reinit(&mut self, x: State, value: f64) {
+        if self.states[x.state].to_bits() != value.to_bits() {
+            self.states[x.state] = value;
+            self.reinitialized = true;
+        }
+    }
+
+    /// Whether `reinit` changed a state.
+    pub fn reinitialized(&self) -> bool {
+        self.reinitialized
+    }
+}
+
+impl Index<Mode> for ModeUpdate<'_> {
+    type Output = i32;
+    fn index(&self, m: Mode) -> &i32 {
+        &self.integers[m.0]
+    }
+}
+
+impl IndexMut<Mode> for ModeUpdate<'_> {
+    fn index_mut(&mut self, m: Mode) -> &mut i32 {
+        &mut self.integers[m.0]
     }
 }

@@ -231,6 +231,17 @@ impl BooleanParameter {
     }
 }
 
+/// A discrete mode (an FMI Integer local, variability `discrete`): read as `k[mode]` in the
+/// equations, changed only at events by `Model::update_modes` (stick/slip of a friction,
+/// a switch's position). Its value lives in the integer store, so it is part of FMU states.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Mode(pub(crate) usize);
+
+/// An event indicator z (FMI 2.0 ME `numberOfEventIndicators`): the model writes it in
+/// `Model::event_indicators`; an event happens when it changes sign.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Indicator(pub(crate) usize);
+
 /// A continuous state: read as `k[state]`, its derivative written as `der[state] = value`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct State {
@@ -250,6 +261,8 @@ pub struct VariableTable {
     pub state_known_index: Vec<usize>,
     /// Value reference of each state, in state order.
     pub state_value_reference: Vec<u32>,
+    /// Event indicators (name, description), in declaration order.
+    pub indicators: Vec<(String, String)>,
 }
 
 impl VariableTable {
@@ -321,6 +334,11 @@ impl Declarations {
 
     pub fn into_table(self) -> VariableTable {
         self.table
+    }
+
+    /// Whether any event indicator has been declared.
+    pub fn has_event_indicators(&self) -> bool {
+        !self.table.indicators.is_empty()
     }
 
     /// Whether any input has been declared.
@@ -501,6 +519,65 @@ impl Declarations {
         self.table.n_booleans += 1;
         let pos = self.discrete_parameter(name, Start::Boolean(start), Slot::Boolean(b));
         BooleanBuilder { decl: self, pos, handle: BooleanParameter(b) }
+    }
+
+    /// A discrete mode with the value the model starts from before its first mode update
+    /// (an Integer local, `discrete`, `initial="calculated"`: the runtime settles it at the end
+    /// of initialization by `Model::update_modes`).
+    pub fn mode(&mut self, name: &str, start: i32) -> ModeBuilder<'_> {
+        let i = self.table.n_integers;
+        self.table.n_integers += 1;
+        let pos = self.push(Variable {
+            name: name.to_string(),
+            value_reference: 0,
+            description: String::new(),
+            causality: Causality::Local,
+            variability: Variability::Discrete,
+            initial: Some(Initial::Calculated),
+            start: Some(Start::Integer(start)),
+            unit: None,
+            min: None,
+            max: None,
+            nominal: None,
+            min_exclusive: false,
+            slot: Slot::Integer(i),
+            derivative_of: None,
+        });
+        ModeBuilder { decl: self, pos, handle: Mode(i) }
+    }
+
+    /// An event indicator (not an FMI variable: FMI 2.0 only counts them). The name appears in
+    /// the log messages of the events it triggers.
+    pub fn event_indicator(&mut self, name: &str, description: &str) -> Indicator {
+        assert!(
+            self.table.indicators.iter().all(|(n, _)| n != name),
+            "event indicator '{name}' is declared twice"
+        );
+        self.table.indicators.push((name.to_string(), description.to_string()));
+        Indicator(self.table.indicators.len() - 1)
+    }
+}
+
+/// Finishes a discrete mode's declaration.
+pub struct ModeBuilder<'a> {
+    decl: &'a mut Declarations,
+    pos: usize,
+    handle: Mode,
+}
+
+impl ModeBuilder<'_> {
+    /// The values the mode takes, inclusive (also the values at which the runtime probes the
+    /// equations for the ModelStructure).
+    pub fn range(self, min: i32, max: i32) -> Self {
+        let v = &mut self.decl.table.variables[self.pos];
+        v.min = Some(min as f64);
+        v.max = Some(max as f64);
+        self
+    }
+
+    pub fn describe(self, description: &str) -> Mode {
+        self.decl.table.variables[self.pos].description = description.to_string();
+        self.handle
     }
 }
 

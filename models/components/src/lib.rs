@@ -31,6 +31,7 @@
 pub mod activity;
 pub mod complex;
 pub mod control;
+pub mod dc;
 pub mod electrical;
 pub mod induction;
 pub mod magnetic;
@@ -39,9 +40,10 @@ pub mod sources;
 pub mod thermal;
 
 pub use control::{Multiplier, PiController, SecondOrderFilter, SpeedRamp};
+pub use dc::DcMachine;
 pub use electrical::{Capacitor, Inductor, Resistor};
 pub use induction::{Fluxes, InductionMachine};
 pub use magnetic::{Reluctance, RlWinding, ToothedAirGap, Winding, MU_0_H_PER_M};
-pub use mechanical::{FanLoad, Inertia, Reducer, TorsionBar, TorsionSpring};
+pub use mechanical::{CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring};
 pub use sources::{Ramp, SineVoltage};
 pub use thermal::{ThermalConductance, ThermalNode};

@@ -180,6 +180,71 @@ impl FanLoad {
     }
 }
 
+/// A propeller's hydrodynamic torque follows the same quadratic law as a fan's, T = a w |w|
+/// (chapter 3.5.3: "T = alpha w^2", the coupling with the submarine's forward speed ignored).
+pub type PropellerLoad = FanLoad;
+
+/// Coulomb friction with sticking (a seal on a shaft): while the body slips the friction torque is
+/// -T_c in the direction of slip; while it sticks the body stands still and the friction takes
+/// whatever torque holding it requires, up to T_s. The direction is a discrete mode (1 forwards,
+/// 0 stuck, -1 backwards), so the equations stay smooth between events and never chatter on
+/// sign(w).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoulombFriction {
+    /// T_c, N m: the torque while slipping.
+    pub coulomb_n_m: f64,
+    /// T_s >= T_c, N m: the largest torque it holds while stuck.
+    pub static_n_m: f64,
+}
+
+impl CoulombFriction {
+    /// The friction torque on a body slipping in `direction` (+-1; 0 when stuck), N m.
+    pub fn slip_torque_n_m(&self, direction: i32) -> f64 {
+        -self.coulomb_n_m * direction as f64
+    }
+
+    /// The event indicator: slipping, the speed in the direction of slip (it reaches zero when the
+    /// body stops); stuck, the margin T_s - |T_required| (it reaches zero when the body breaks
+    /// loose). `required_n_m` is the torque the friction must take to hold the body still: the sum
+    /// of every other torque on it.
+    pub fn indicator(&self, mode: i32, speed_rad_per_s: f64, required_n_m: f64) -> f64 {
+        if mode == 0 {
+            self.static_n_m - required_n_m.abs()
+        } else {
+            mode as f64 * speed_rad_per_s
+        }
+    }
+
+    /// The mode after an event and whether the speed must be set to exactly 0: a slipping body
+    /// that stopped sticks if the friction can hold it, else slips the way it is pushed; a stuck
+    /// body breaks loose in the direction of the required torque; a "stuck" body that moves (start
+    /// values) slips in its direction of motion. A mode holds exactly while its `indicator` is
+    /// positive (the FMI convention for an indicator's two domains), so the update always agrees
+    /// with the crossing that triggered it, even where the located point has the indicator at 0.
+    pub fn next_mode(&self, mode: i32, speed_rad_per_s: f64, required_n_m: f64) -> (i32, bool) {
+        let pushed = if required_n_m > 0.0 { 1 } else { -1 };
+        let holds = self.indicator(0, 0.0, required_n_m) > 0.0;
+        match mode {
+            0 if speed_rad_per_s != 0.0 => (if speed_rad_per_s > 0.0 { 1 } else { -1 }, false),
+            0 if !holds => (pushed, false),
+            0 => (0, false),
+            d if self.indicator(d, speed_rad_per_s, required_n_m) <= 0.0 => {
+                if holds {
+                    (0, true)
+                } else {
+                    (pushed, true)
+                }
+            }
+            d => (d, false),
+        }
+    }
+
+    /// Power dissipated while slipping, W (zero while stuck: the body does not move).
+    pub fn power_w(&self, mode: i32, speed_rad_per_s: f64) -> f64 {
+        (self.slip_torque_n_m(mode) * speed_rad_per_s).abs()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -235,5 +300,24 @@ mod tests {
         assert_eq!(s.spring_power_w(0.1, 2.0), 2.0);
         assert_eq!(s.damper_power_w(-2.0), 4.0);
         assert_eq!(FanLoad { coefficient_n_m_s2_per_rad2: 2.0 }.torque_n_m(-3.0), -18.0);
+    }
+
+    #[test]
+    fn coulomb_friction_sticks_when_it_can_hold_and_slips_the_way_it_is_pushed() {
+        let f = CoulombFriction { coulomb_n_m: 9000.0, static_n_m: 9000.0 };
+        assert_eq!(f.slip_torque_n_m(1), -9000.0);
+        assert_eq!(f.indicator(1, 2.0, 0.0), 2.0);
+        assert_eq!(f.indicator(-1, 2.0, 0.0), -2.0, "slipping backwards but moving forwards: crossed");
+        assert_eq!(f.indicator(0, 0.0, -8000.0), 1000.0);
+        assert_eq!(f.next_mode(1, -1e-12, 5000.0), (0, true), "stopped, held");
+        assert_eq!(f.next_mode(1, -1e-12, -2e5), (-1, true), "stopped, pushed back through");
+        assert_eq!(f.next_mode(0, 0.0, 9500.0), (1, false), "breaks loose forwards");
+        assert_eq!(f.next_mode(0, 0.0, -9000.0), (-1, false), "at the limit the indicator is 0: broken loose");
+        assert_eq!(f.next_mode(1, 0.0, 9000.0), (1, true), "stopped at the limit: slips on");
+        assert_eq!(f.next_mode(0, 0.0, -8000.0), (0, false));
+        assert_eq!(f.next_mode(0, -3.0, 0.0), (-1, false), "moving at the start");
+        assert_eq!(f.next_mode(-1, -3.0, 0.0), (-1, false));
+        assert_eq!(f.power_w(0, 0.0), 0.0);
+        assert_eq!(f.power_w(-1, -2.0), 18000.0);
     }
 }
