@@ -5,7 +5,8 @@
 # binaries used here); installs valgrind with apt if it is missing.
 #   1. 1000 instantiate/initialize/step/state/free cycles per FMU (tests/examples/lifecycle_cycles.rs)
 #   2. the host tests every_fmu (default experiment, replay, serialization, reset) and
-#      parameter_ranges, and a short run of the random call sequences (fuzz_calls).
+#      parameter_ranges, and a short run of the random call sequences (fuzz_calls, with short
+#      communication steps: under valgrind only the memory handling matters, not long integrations).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -33,6 +34,6 @@ for t in every_fmu parameter_ranges; do
     echo "-- valgrind: $t"
     memcheck "$(test_binary "$t")" --test-threads=1 -q
 done
-echo "-- valgrind: fuzz_calls (140 sequences)"
-FUZZ_CASES=140 memcheck "$(test_binary fuzz_calls)" --test-threads=1 -q
+echo "-- valgrind: fuzz_calls (180 sequences, communication steps <= 1 ms)"
+FUZZ_CASES=180 FUZZ_SHORT_STEPS=1 memcheck "$(test_binary fuzz_calls)" --test-threads=1 -q
 echo "valgrind: 0 errors, 0 bytes lost"

@@ -1,11 +1,12 @@
 //! Reading a built model library's identity, modelDescription.xml and documentation.
 //!
-//! Every model library exports three functions, written by `fmu_runtime::export_fmu!`:
+//! Every model library exports these functions, written by `fmu_runtime::export_fmu!`:
 //!
 //! ```text
 //! extern "C" fn fmu_runtime_model_identifier() -> *const c_char
 //! extern "C" fn fmu_runtime_model_description() -> *const c_char  // modelDescription.xml
 //! extern "C" fn fmu_runtime_documentation() -> *const c_char      // an HTML page
+//! extern "C" fn fmu_runtime_model_problems() -> *const c_char     // NULL, or what is wrong
 //! ```
 //!
 //! Each returns a NUL-terminated UTF-8 string that stays valid while the library is loaded.
@@ -22,6 +23,8 @@ pub const IDENTIFIER_SYMBOL: &str = "fmu_runtime_model_identifier";
 pub const DESCRIPTION_SYMBOL: &str = "fmu_runtime_model_description";
 /// The documentation symbol's name.
 pub const DOCUMENTATION_SYMBOL: &str = "fmu_runtime_documentation";
+/// The problems symbol's name: the model's declaration problems, NULL when there are none.
+pub const PROBLEMS_SYMBOL: &str = "fmu_runtime_model_problems";
 
 /// What a model library says about itself, copied out of it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -54,6 +57,11 @@ pub fn extract(path: &Path, package: &str) -> Result<ModelInfo, String> {
             chain(&e)
         )
     })?;
+    // A model with problems (a duplicate name, a missing unit, an output never written, ...)
+    // says so, each with its source file, line and fix; it is not packaged.
+    if let Some(problems) = call_optional_string(&lib, PROBLEMS_SYMBOL, package)? {
+        return Err(format!("{package}: the model is not valid:\n  {}", problems.replace('\n', "\n  ")));
+    }
     let identifier = call_string(&lib, IDENTIFIER_SYMBOL, package)?;
     let description = call_string(&lib, DESCRIPTION_SYMBOL, package)?;
     let documentation = call_string(&lib, DOCUMENTATION_SYMBOL, package)?;
@@ -88,6 +96,22 @@ fn call_string(lib: &Library, symbol: &str, package: &str) -> Result<String, Str
     let bytes = unsafe { CStr::from_ptr(ptr) }.to_bytes();
     String::from_utf8(bytes.to_vec())
         .map_err(|e| format!("{package}: `{symbol}` returned text that is not UTF-8: {e}"))
+}
+
+/// Like [`call_string`], for a symbol whose NULL result means "nothing to say".
+fn call_optional_string(lib: &Library, symbol: &str, package: &str) -> Result<Option<String>, String> {
+    // SAFETY: the export macro defines the symbol with exactly this signature.
+    let Ok(f) = (unsafe { lib.get::<unsafe extern "C" fn() -> *const c_char>(symbol) }) else {
+        return Ok(None); // a library built by an older runtime
+    };
+    // SAFETY: as in `call_string`.
+    let ptr = unsafe { f() };
+    if ptr.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: non-null and NUL-terminated by contract, valid while the library is loaded.
+    let bytes = unsafe { CStr::from_ptr(ptr) }.to_bytes();
+    Ok(Some(String::from_utf8_lossy(bytes).into_owned()))
 }
 
 /// An error with its sources: libloading's own message ("dlsym failed") says little, the

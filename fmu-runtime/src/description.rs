@@ -31,6 +31,54 @@ pub struct ModelDescription {
     pub guid: String,
     pub table: VariableTable,
     pub structure: Structure,
+    /// What is wrong with the model (its declarations, or a computed variable its equations
+    /// never write): "file:line: rule. Fix: ...". A model with problems is not exported.
+    pub problems: Vec<String>,
+}
+
+/// The computed variables (outputs, locals, calculated parameters) that `Model::outputs` leaves
+/// unwritten in some configuration of the structural parameters: each would show a stale value.
+fn unwritten<M: Model>(model: &M, table: &VariableTable, t: f64) -> Vec<String> {
+    // A NaN with a payload no arithmetic produces: still there after `outputs`, never written.
+    let sentinel = f64::from_bits(0x7ff8_dead_beef_f00d);
+    let mut problems = Vec::new();
+    let defaults = table.start_values();
+    for config in configurations(table) {
+        let Some((values, states)) = probe_points(table, &config).into_iter().next() else { continue };
+        let mut calculated = vec![sentinel; table.n_calculated];
+        let mut derivatives = vec![0.0; table.n_states];
+        let evaluated = catch_unwind(AssertUnwindSafe(|| {
+            crate::model::evaluate(model, t, &values.known, &states, &values.integers, &values.booleans, &mut derivatives, &mut calculated)
+        }));
+        if evaluated.is_err() {
+            continue; // a model that panics here is reported when it runs
+        }
+        for (pos, var) in table.variables.iter().enumerate() {
+            let Slot::Calculated(i) = var.slot else { continue };
+            if calculated[i].to_bits() != sentinel.to_bits() || problems.iter().any(|p: &String| p.contains(&format!("'{}'", var.name))) {
+                continue;
+            }
+            let changed: Vec<String> = table
+                .variables
+                .iter()
+                .filter_map(|v| match v.slot {
+                    Slot::Integer(j) if config.integers[j] != defaults.integers[j] => Some(format!("{} = {}", v.name, config.integers[j])),
+                    Slot::Boolean(j) if config.booleans[j] != defaults.booleans[j] => Some(format!("{} = {}", v.name, config.booleans[j])),
+                    _ => None,
+                })
+                .collect();
+            let when = if changed.is_empty() { String::new() } else { format!(" (with {})", changed.join(", ")) };
+            let at = table.declared_at[pos];
+            problems.push(format!(
+                "{}:{}: {} '{}' is never written by Model::outputs{when}. Fix: assign out[self.<handle>] = ... for it in outputs(), in every configuration",
+                at.file(),
+                at.line(),
+                var.causality.as_str(),
+                var.name
+            ));
+        }
+    }
+    problems
 }
 
 /// Dependencies of one unknown: the 1-based indices of the knowns it depends on, or `None`
@@ -466,10 +514,12 @@ impl ModelDescription {
         let e = M::info().default_experiment;
         let probe_time = e.start_time + 0.2371 * (e.stop_time - e.start_time) + 0.0137;
         let structure = structure(&model, &table, probe_time);
+        let mut problems = table.problems.clone();
+        problems.extend(unwritten(&model, &table, probe_time));
         let draft = write_xml::<M>(&table, &structure);
         let guid = guid_of(&draft);
         let xml = draft.replacen(GUID_PLACEHOLDER, &guid, 1);
-        ModelDescription { xml, guid, table, structure }
+        ModelDescription { xml, guid, table, structure, problems }
     }
 }
 
@@ -487,6 +537,18 @@ mod tests {
         assert_eq!(s.outputs, vec![(5, set(&[3])), (6, set(&[2]))]);
         assert_eq!(s.derivatives, vec![(4, set(&[2, 3]))]);
         assert_eq!(s.initial_unknowns, vec![(4, set(&[1, 2, 3])), (5, set(&[3])), (6, set(&[1, 2]))]);
+    }
+
+    #[test]
+    fn outputs_never_written_are_problems_naming_them() {
+        let d = ModelDescription::of::<crate::test_model::Careless>();
+        assert_eq!(d.problems.len(), 2, "{:#?}", d.problems);
+        assert!(d.problems[0].contains("output 'forgotten' is never written by Model::outputs. Fix:"), "{}", d.problems[0]);
+        assert!(d.problems[1].contains("output 'y' is never written by Model::outputs (with level = 2)"), "{}", d.problems[1]);
+        assert!(d.problems.iter().all(|p| p.starts_with("fmu-runtime/src/test_model.rs:")), "{:#?}", d.problems);
+        // Every model of the runtime's own tests is clean.
+        assert!(ModelDescription::of::<Decay>().problems.is_empty());
+        assert!(ModelDescription::of::<crate::test_model::Relax>().problems.is_empty());
     }
 
     #[test]

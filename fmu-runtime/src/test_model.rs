@@ -196,3 +196,35 @@ impl Model for ImplicitBlock {
         self.0.outputs(k, out)
     }
 }
+
+/// A model with mistakes a user can make: `forgotten` is declared but never written, and
+/// `level` 2 leaves `y` unwritten too.
+pub struct Careless {
+    level: crate::variables::IntegerParameter,
+    x: State,
+    y: Output,
+    forgotten: Output,
+}
+
+impl Model for Careless {
+    fn info() -> ModelInfo {
+        ModelInfo { name: "Careless", ..Decay::info() }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        Careless {
+            level: d.integer_parameter("level", 1).range(1, 2).describe("1 writes y, 2 forgets it"),
+            x: d.state("x", 1.0, "1").describe("state"),
+            y: d.output("y", "1").describe("the state"),
+            forgotten: d.output("forgotten", "1").describe("never computed"),
+        }
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        der[self.x] = -k[self.x];
+    }
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        if k[self.level] == 1 {
+            out[self.y] = k[self.x];
+        }
+        let _ = self.forgotten;
+    }
+}

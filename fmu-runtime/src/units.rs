@@ -71,6 +71,11 @@ const KNOWN: &[(&str, BaseUnit)] = &[
 
 /// The base-unit exponents of a unit name: a known unit, or a known unit followed by "/s"
 /// (the unit of a state's derivative).
+/// A few of the known units, for error messages.
+pub fn examples() -> String {
+    KNOWN.iter().map(|(n, _)| *n).filter(|n| ["1", "s", "m", "kg", "K", "A", "V", "Ohm", "W", "N.m", "rad/s", "kg.m2"].contains(n)).collect::<Vec<_>>().join(", ")
+}
+
 pub fn lookup(name: &str) -> Option<BaseUnit> {
     if let Some((_, b)) = KNOWN.iter().find(|(n, _)| *n == name) {
         return Some(*b);

@@ -11,6 +11,8 @@
 //! reference names one variable whatever its type). A state also declares its derivative
 //! `der(<name>)` right after itself.
 
+use std::panic::Location;
+
 use crate::units;
 
 /// FMI 2.0 causality (section 2.2.7).
@@ -182,6 +184,16 @@ impl Variable {
     }
 }
 
+/// A variable name FMI masters and scripting languages can use: a letter, then letters, digits,
+/// '_'; `der(x)` for a state's derivative.
+fn is_valid_name(name: &str) -> bool {
+    let plain = |n: &str| n.chars().next().is_some_and(|c| c.is_ascii_alphabetic()) && n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+    match name.strip_prefix("der(").and_then(|n| n.strip_suffix(')')) {
+        Some(inner) => plain(inner),
+        None => plain(name),
+    }
+}
+
 /// A number as people read it: shortest round-trip text, an exponent for tiny or huge values.
 pub fn number(v: f64) -> String {
     if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
@@ -263,6 +275,11 @@ pub struct VariableTable {
     pub state_value_reference: Vec<u32>,
     /// Event indicators (name, description), in declaration order.
     pub indicators: Vec<(String, String)>,
+    /// Where each variable was declared (the model's source file and line), by value reference.
+    pub declared_at: Vec<&'static Location<'static>>,
+    /// What is wrong with the declarations, one message per problem: "file:line: the rule
+    /// broken. Fix: what to do". A model with problems is not exported (build-fmus prints them).
+    pub problems: Vec<String>,
 }
 
 impl VariableTable {
@@ -346,24 +363,48 @@ impl Declarations {
         self.table.variables.iter().any(|v| v.causality == Causality::Input)
     }
 
+    /// Records a problem found in the declaration at `at`.
+    fn problem(&mut self, at: &Location, message: String) {
+        self.table.problems.push(format!("{}:{}: {message}", at.file(), at.line()));
+    }
+
+    #[track_caller]
     fn push(&mut self, mut var: Variable) -> usize {
-        assert!(
-            self.table.by_name(&var.name).is_none(),
-            "variable '{}' is declared twice",
-            var.name
-        );
-        if let Some(unit) = &var.unit {
-            assert!(
-                units::lookup(unit).is_some(),
-                "variable '{}': unknown unit '{unit}' (add it to fmu_runtime::units)",
-                var.name
+        let at = Location::caller();
+        let name = var.name.clone();
+        if let Some(first) = self.table.by_name(&name).map(|v| self.table.declared_at[v.value_reference as usize]) {
+            self.problem(
+                at,
+                format!("variable '{name}' is declared twice (first at {}:{}). Fix: give each variable its own name", first.file(), first.line()),
             );
+        }
+        if !is_valid_name(&name) {
+            self.problem(at, format!("'{name}' is not a usable variable name. Fix: start with a letter, then letters, digits or '_'"));
+        }
+        match var.unit.as_deref() {
+            Some("") => self.problem(at, format!("'{name}' has no unit. Fix: give its SI unit (\"1\" for a dimensionless quantity)")),
+            Some(unit) if units::lookup(unit).is_none() => self.problem(
+                at,
+                format!("'{name}' has the unit '{unit}', which fmu_runtime::units does not know. Fix: use an SI unit ({}) or add it there", units::examples()),
+            ),
+            _ => {}
         }
         var.value_reference = self.table.variables.len() as u32;
         self.table.variables.push(var);
+        self.table.declared_at.push(at);
         self.table.variables.len() - 1
     }
 
+    /// Finishes a declaration: its description, which must say something.
+    fn describe_variable(&mut self, pos: usize, description: &str) {
+        self.table.variables[pos].description = description.to_string();
+        if description.trim().is_empty() {
+            let (at, name) = (self.table.declared_at[pos], self.table.variables[pos].name.clone());
+            self.problem(at, format!("'{name}' has no description. Fix: say what it is, with the chapter's equation or figure"));
+        }
+    }
+
+    #[track_caller]
     fn real(
         &mut self,
         name: &str,
@@ -404,6 +445,7 @@ impl Declarations {
 
     /// A real parameter with its default (the chapter's value) and SI unit; `fixed` unless
     /// `.tunable()`.
+    #[track_caller]
     pub fn parameter(&mut self, name: &str, start: f64, unit: &str) -> RealBuilder<'_, Parameter> {
         let k = self.next_known();
         let pos = self.real(name, unit, Causality::Parameter, Variability::Fixed, None, Some(start), Slot::Known(k));
@@ -411,6 +453,7 @@ impl Declarations {
     }
 
     /// A real input with the value it holds until the master sets it.
+    #[track_caller]
     pub fn input(&mut self, name: &str, start: f64, unit: &str) -> RealBuilder<'_, Input> {
         let k = self.next_known();
         let pos = self.real(name, unit, Causality::Input, Variability::Continuous, None, Some(start), Slot::Known(k));
@@ -418,6 +461,7 @@ impl Declarations {
     }
 
     /// A real output, computed by `Model::outputs`.
+    #[track_caller]
     pub fn output(&mut self, name: &str, unit: &str) -> RealBuilder<'_, Output> {
         let c = self.next_calculated();
         let pos = self.real(name, unit, Causality::Output, Variability::Continuous, None, None, Slot::Calculated(c));
@@ -425,6 +469,7 @@ impl Declarations {
     }
 
     /// A real local variable computed by `Model::outputs` (an internal signal worth plotting).
+    #[track_caller]
     pub fn local(&mut self, name: &str, unit: &str) -> RealBuilder<'_, Local> {
         let c = self.next_calculated();
         let pos = self.real(name, unit, Causality::Local, Variability::Continuous, None, None, Slot::Calculated(c));
@@ -433,6 +478,7 @@ impl Declarations {
 
     /// A parameter computed from other parameters (e.g. an inertia referred to another axis),
     /// written by `Model::outputs`.
+    #[track_caller]
     pub fn calculated_parameter(&mut self, name: &str, unit: &str) -> RealBuilder<'_, Local> {
         let c = self.next_calculated();
         let pos = self.real(
@@ -449,6 +495,7 @@ impl Declarations {
 
     /// A continuous state with its initial value (settable before initialization). Also
     /// declares `der(<name>)`, in the unit of the state per second.
+    #[track_caller]
     pub fn state(&mut self, name: &str, start: f64, unit: &str) -> RealBuilder<'_, State> {
         self.state_with(name, Some(start), unit)
     }
@@ -457,10 +504,12 @@ impl Declarations {
     /// `Model::initial_states`, from the parameters and inputs (a steady state, a temperature
     /// equal to the ambient one). FMI `initial="calculated"`: no start value, not settable before
     /// initialization, listed among the InitialUnknowns. Also declares `der(<name>)`.
+    #[track_caller]
     pub fn calculated_state(&mut self, name: &str, unit: &str) -> RealBuilder<'_, State> {
         self.state_with(name, None, unit)
     }
 
+    #[track_caller]
     fn state_with(&mut self, name: &str, start: Option<f64>, unit: &str) -> RealBuilder<'_, State> {
         let k = self.next_known();
         let s = self.table.n_states;
@@ -486,6 +535,7 @@ impl Declarations {
     }
 
     /// A non-real parameter (`fixed`, no unit).
+    #[track_caller]
     fn discrete_parameter(&mut self, name: &str, start: Start, slot: Slot) -> usize {
         self.push(Variable {
             name: name.to_string(),
@@ -506,6 +556,7 @@ impl Declarations {
     }
 
     /// An integer parameter (`fixed`): structural choices such as a modelling level.
+    #[track_caller]
     pub fn integer_parameter(&mut self, name: &str, start: i32) -> IntegerBuilder<'_> {
         let i = self.table.n_integers;
         self.table.n_integers += 1;
@@ -514,6 +565,7 @@ impl Declarations {
     }
 
     /// A boolean parameter (`fixed`).
+    #[track_caller]
     pub fn boolean_parameter(&mut self, name: &str, start: bool) -> BooleanBuilder<'_> {
         let b = self.table.n_booleans;
         self.table.n_booleans += 1;
@@ -524,6 +576,7 @@ impl Declarations {
     /// A discrete mode with the value the model starts from before its first mode update
     /// (an Integer local, `discrete`, `initial="calculated"`: the runtime settles it at the end
     /// of initialization by `Model::update_modes`).
+    #[track_caller]
     pub fn mode(&mut self, name: &str, start: i32) -> ModeBuilder<'_> {
         let i = self.table.n_integers;
         self.table.n_integers += 1;
@@ -548,11 +601,11 @@ impl Declarations {
 
     /// An event indicator (not an FMI variable: FMI 2.0 only counts them). The name appears in
     /// the log messages of the events it triggers.
+    #[track_caller]
     pub fn event_indicator(&mut self, name: &str, description: &str) -> Indicator {
-        assert!(
-            self.table.indicators.iter().all(|(n, _)| n != name),
-            "event indicator '{name}' is declared twice"
-        );
+        if self.table.indicators.iter().any(|(n, _)| n == name) {
+            self.problem(Location::caller(), format!("event indicator '{name}' is declared twice. Fix: give each indicator its own name"));
+        }
         self.table.indicators.push((name.to_string(), description.to_string()));
         Indicator(self.table.indicators.len() - 1)
     }
@@ -576,7 +629,7 @@ impl ModeBuilder<'_> {
     }
 
     pub fn describe(self, description: &str) -> Mode {
-        self.decl.table.variables[self.pos].description = description.to_string();
+        self.decl.describe_variable(self.pos, description);
         self.handle
     }
 }
@@ -621,12 +674,14 @@ impl<H> RealBuilder<'_, H> {
 
     /// Finishes the declaration with its description (cite the chapter's equation or figure)
     /// and returns the handle the equations use.
-    pub fn describe(mut self, description: &str) -> H {
-        self.var().description = description.to_string();
-        let v = self.var().clone();
+    pub fn describe(self, description: &str) -> H {
+        self.decl.describe_variable(self.pos, description);
+        let v = &self.decl.table.variables[self.pos];
         if let Some(Start::Real(s)) = v.start {
             if let Err(e) = v.check_range(s) {
-                panic!("the default of {}: {e}", v.name);
+                let (at, name) = (self.decl.table.declared_at[self.pos], v.name.clone());
+                let what = if s.is_nan() { "no default (NaN)".to_string() } else { format!("an invalid default: {e}") };
+                self.decl.problem(at, format!("'{name}' has {what}. Fix: give the chapter's value, or a documented choice, inside its range"));
             }
         }
         self.handle
@@ -658,7 +713,7 @@ impl IntegerBuilder<'_> {
     }
 
     pub fn describe(self, description: &str) -> IntegerParameter {
-        self.decl.table.variables[self.pos].description = description.to_string();
+        self.decl.describe_variable(self.pos, description);
         self.handle
     }
 }
@@ -672,7 +727,7 @@ pub struct BooleanBuilder<'a> {
 
 impl BooleanBuilder<'_> {
     pub fn describe(self, description: &str) -> BooleanParameter {
-        self.decl.table.variables[self.pos].description = description.to_string();
+        self.decl.describe_variable(self.pos, description);
         self.handle
     }
 }
@@ -699,18 +754,26 @@ mod tests {
     }
 
     #[test]
-    #[should_panic(expected = "declared twice")]
-    fn duplicate_names_are_refused() {
+    fn declaration_problems_name_the_file_the_variable_and_the_fix() {
         let mut d = Declarations::new();
         d.parameter("R", 1.0, "Ohm").describe("a");
         d.parameter("R", 1.0, "Ohm").describe("b");
-    }
-
-    #[test]
-    #[should_panic(expected = "unknown unit")]
-    fn unknown_units_are_refused() {
-        let mut d = Declarations::new();
-        d.parameter("R", 1.0, "furlong").describe("a");
+        d.parameter("x", 1.0, "furlong").describe("c");
+        d.parameter("y", 1.0, "").describe("d");
+        d.parameter("z", f64::NAN, "m").describe("e");
+        d.output("w", "m").describe(" ");
+        d.parameter("2x", 1.0, "m").describe("f");
+        let t = d.into_table();
+        let p = &t.problems;
+        assert_eq!(p.len(), 6, "{p:#?}");
+        let here = file!();
+        assert!(p.iter().all(|m| m.starts_with(here) && m.contains("Fix:")), "{p:#?}");
+        assert!(p[0].contains("'R' is declared twice (first at"));
+        assert!(p[1].contains("'x' has the unit 'furlong'"));
+        assert!(p[2].contains("'y' has no unit"));
+        assert!(p[3].contains("'z' has no default (NaN)"));
+        assert!(p[4].contains("'w' has no description"));
+        assert!(p[5].contains("'2x' is not a usable variable name"));
     }
 
     #[test]

@@ -2,8 +2,9 @@
 
 /// Exports every function of FMI 2.0 `fmi2Functions.h` (Co-Simulation and Model Exchange)
 /// for a type implementing
-/// [`Model`](crate::Model), and three functions `build-fmus` reads:
-/// `fmu_runtime_model_identifier`, `fmu_runtime_model_description`, `fmu_runtime_documentation`.
+/// [`Model`](crate::Model), and four functions `build-fmus` reads:
+/// `fmu_runtime_model_identifier`, `fmu_runtime_model_description`, `fmu_runtime_documentation`
+/// and `fmu_runtime_model_problems`.
 ///
 /// Use it once, at the root of a `cdylib` crate: `fmu_runtime::export_fmu!(RlcCircuit);`
 #[macro_export]
@@ -50,6 +51,11 @@ macro_rules! export_fmu {
             #[no_mangle]
             pub extern "C" fn fmu_runtime_documentation() -> *const c_char {
                 guarded_text(|e| e.documentation.as_ptr())
+            }
+            /// The model's problems (one per line: "file:line: rule. Fix: ..."), or NULL if none.
+            #[no_mangle]
+            pub extern "C" fn fmu_runtime_model_problems() -> *const c_char {
+                guarded_text(|e| e.problems.as_ref().map_or(std::ptr::null(), |p| p.as_ptr()))
             }
 
             #[no_mangle]

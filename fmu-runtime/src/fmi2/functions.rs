@@ -148,6 +148,9 @@ pub unsafe fn instantiate<M: Model>(
     if name.is_empty() {
         return fail("the instance name is null or empty".into());
     }
+    if let Some(problems) = &exported.problems {
+        return fail(format!("the model is not valid: {}", problems.to_string_lossy()));
+    }
     let interface = match fmu_type {
         fmi2CoSimulation => Interface::CoSimulation,
         fmi2ModelExchange => Interface::ModelExchange,

@@ -18,6 +18,9 @@ pub struct Exported {
     pub guid: String,
     pub model_description: CString,
     pub documentation: CString,
+    /// The model's problems, one per line ("file:line: rule. Fix: ..."), if it has any: such
+    /// a model cannot be instantiated, and build-fmus refuses to package it.
+    pub problems: Option<CString>,
 }
 
 impl Exported {
@@ -28,6 +31,7 @@ impl Exported {
             guid: description.guid.clone(),
             model_description: crate::log::to_c_string(&description.xml),
             documentation: crate::log::to_c_string(&crate::documentation::html::<M>(&description)),
+            problems: (!description.problems.is_empty()).then(|| crate::log::to_c_string(&description.problems.join("\n"))),
         }
     }
 }
