@@ -137,3 +137,21 @@ def test_figure_3_11_runs_on_a_dask_cluster(fmus, tmp_path):
     in_pool = oat.sweep(short=True, workers=2)
     assert [r["name"] for r in on_dask] == [r["name"] for r in in_pool]
     assert [r["peak"] for r in on_dask] == [r["peak"] for r in in_pool], "the Dask and pool sweeps differ"
+
+
+def test_each_fmu_documentation_shows_its_figures(fmus):
+    # build-fmus puts docs/figures/<ModelIdentifier>_*.png into the FMU as documentation/<file> and links
+    # each from documentation/index.html (issue 12: "Each FMU's documentation/index.html includes its figure").
+    import zipfile
+
+    figures = sorted((REPO_ROOT / "docs" / "figures").glob("*.png"))
+    assert figures, "no committed figures in docs/figures (run examples/make_figures.py)"
+    models = {p.name.split("_", 1)[0] for p in figures}
+    for model in sorted(models):
+        fmu = require_fmu(DIST_DIR / f"{model}.fmu")
+        with zipfile.ZipFile(fmu) as z:
+            names = set(z.namelist())
+            html = z.read("documentation/index.html").decode()
+        for png in (p.name for p in figures if p.name.startswith(model + "_")):
+            assert f"documentation/{png}" in names, f"{fmu.name} lacks documentation/{png}: rebuild with build-fmus"
+            assert f'<img src="{png}"' in html, f"{fmu.name}'s index.html does not show {png}"
