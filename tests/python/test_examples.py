@@ -155,3 +155,26 @@ def test_each_fmu_documentation_shows_its_figures(fmus):
         for png in (p.name for p in figures if p.name.startswith(model + "_")):
             assert f"documentation/{png}" in names, f"{fmu.name} lacks documentation/{png}: rebuild with build-fmus"
             assert f'<img src="{png}"' in html, f"{fmu.name}'s index.html does not show {png}"
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "Chapter 3.3.3 / Figure 3.13: with the set point filtered below 1.4 Hz 'the effect of the driveshaft "
+    "elasticity can be neglected when sizing the reducer'. Measured (level c, PI, step set point through the "
+    "0.5 Hz filter, 30 s): elastic shaft peak 2756 N m vs rigid 2310 N m (+19 %), elasticity adds up to 1211 N m; "
+    "with the 5 Hz filter 3959 vs 2299 N m (+72 %), up to 2138 N m. The 0.5 Hz filter does cut the shaft's "
+    "part by 43 %, but the PI controller's torque still rises within ~0.2 s (and saturates at T_limit), a "
+    "torque step that excites the 3.9 Hz two-inertia mode: the filter only shapes the set point. We report this "
+    "rather than retune the controller."))
+def test_figure_3_13_elasticity_negligible_below_resonance(fmus):
+    # reference: chapter 3.3.3 (Figure 3.13). Criterion for "negligible when sizing": the elastic shaft's
+    # peak torque within 10 % of the rigid shaft's, with the set point filtered below 1.4 Hz.
+    import fig3_13_setpoint_filter as fig
+
+    runs = fig.run(short=False)
+    elastic = float(max(abs(runs[(1, True)]["shaft_torque"])))
+    rigid = float(max(abs(runs[(1, False)]["shaft_torque"])))
+    below, above = fig.elasticity_torque(runs, 1), fig.elasticity_torque(runs, 2)
+    print(f"\nfilter below: elastic {elastic:.0f} N m, rigid {rigid:.0f} N m; elasticity adds {below:.0f} N m "
+          f"(above: {above:.0f} N m)")
+    assert below < above, "the filter below 1.4 Hz must excite the shaft less than the one above"
+    assert elastic <= 1.10 * rigid, f"elastic peak {elastic:.0f} N m is {elastic / rigid - 1:+.0%} over the rigid {rigid:.0f} N m"
