@@ -58,7 +58,7 @@ def main(argv=None) -> int:
     ax_m.set_title("conditioned output", fontsize=10)
     ax_e.set_xlabel("applied torque (N m)")
     ax_e.set_ylabel("error (% of full scale)")
-    ax_e.set_title("conditioned output - applied torque (includes the low-pass filter's lag)", fontsize=10)
+    ax_e.set_title("conditioned - applied torque (filter lag included)", fontsize=10)
     fc.finish(fig, f"Section 3.5.2: torque sensor under a {'short' if args.short else '1 s'} ramp over +-{fs:g} N m "
               "(dist/TorqueSensor.fmu)", args.out, "TorqueSensor_characteristic.png", legend_loc="best")
     return 0
