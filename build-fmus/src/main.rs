@@ -7,7 +7,8 @@
 //! 2. [`cargo`]: build all their libraries with one `cargo build --release --lib -p ...`;
 //! 3. [`extract`]: load each library and copy out its modelIdentifier, modelDescription.xml
 //!    and documentation page, which `fmu_runtime::export_fmu!` exports;
-//! 4. [`package`]: zip them with the library into a deterministic `.fmu`;
+//! 4. [`package`]: zip them with the library into a deterministic `.fmu`, with the model's
+//!    figures from `docs/figures/<ModelIdentifier>_*.png` ([`figures`]) in its documentation;
 //! 5. [`systems`] and [`ssp`]: for each system declared in `models/systems/<Name>.toml`,
 //!    check its components and connections against the FMUs' variables ([`interface`]) and
 //!    write `<Name>.ssp` (SSP 1.0: SystemStructure.ssd and the FMUs under resources/).
@@ -17,6 +18,7 @@
 mod cargo;
 mod discover;
 mod extract;
+mod figures;
 mod interface;
 mod package;
 mod ssp;
@@ -50,6 +52,8 @@ Model crates are the workspace members under models/ whose [lib] crate-type has
 $CARGO_TARGET_DIR are honoured); each library is then loaded to read its
 modelDescription.xml and documentation, and zipped with them into the FMU:
   modelDescription.xml, binaries/linux64/<ModelIdentifier>.so, documentation/index.html
+and the model's figures docs/figures/<ModelIdentifier>_*.png (examples/make_figures.py)
+as documentation/<file>.png, shown in index.html.
 
 A system (models/systems/<System>.toml: components, connections \"a.y -> b.u\" from an
 output to an input, optional parameter values) is checked against the FMUs' variables and
@@ -234,7 +238,7 @@ fn run(opts: &Options) -> Result<usize, String> {
             failed += 1;
             continue;
         }
-        match package_one(&out_dir, &lib_path, &info) {
+        match package_one(&root, &out_dir, &lib_path, &info) {
             Ok((path, size)) => {
                 written += 1;
                 descriptions.insert(info.identifier.clone(), info.description.clone());
@@ -352,9 +356,10 @@ fn package_systems(
     (written, failed)
 }
 
-/// Zips one model into `<out_dir>/<identifier>.fmu` (creating `out_dir` if needed);
-/// returns its path and size.
+/// Zips one model into `<out_dir>/<identifier>.fmu` (creating `out_dir` if needed), with its
+/// figures from `<root>/docs/figures`; returns its path and size.
 fn package_one(
+    root: &Path,
     out_dir: &Path,
     lib_path: &Path,
     info: &extract::ModelInfo,
@@ -364,13 +369,16 @@ fn package_one(
     let binary =
         fs::read(lib_path).map_err(|e| format!("could not read {}: {e}", lib_path.display()))?;
     let path = out_dir.join(format!("{}.fmu", info.identifier));
+    let figures = figures::find(root, &info.identifier)?;
+    let documentation = figures::with_figures(&info.documentation, &figures);
     let size = package::write_fmu(
         &path,
         &package::FmuContents {
             identifier: &info.identifier,
             model_description: info.description.as_bytes(),
             binary: &binary,
-            documentation: info.documentation.as_bytes(),
+            documentation: documentation.as_bytes(),
+            figures: &figures,
         },
     )?;
     Ok((path, size))

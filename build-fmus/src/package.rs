@@ -1,11 +1,12 @@
 //! Writing an `.fmu`: a deterministic zip of the description, the binary and the docs.
 //!
-//! The archive holds exactly three entries, always in this order:
+//! The archive holds these entries, always in this order:
 //!
 //! ```text
 //! modelDescription.xml
 //! binaries/<platform>/<modelIdentifier>.<so|dylib|dll>
 //! documentation/index.html
+//! documentation/<figure>.png     (the model's figures from docs/figures, if any)
 //! ```
 //!
 //! Every entry is deflated, dated 1980-01-01 00:00:00 (the zip format's earliest date) and
@@ -31,6 +32,8 @@ pub struct FmuContents<'a> {
     pub binary: &'a [u8],
     /// documentation/index.html.
     pub documentation: &'a [u8],
+    /// documentation/<name>: the figures index.html links to (file name, bytes).
+    pub figures: &'a [(String, Vec<u8>)],
 }
 
 /// The FMI 2.0 name of the platform this tool was built for (`linux64`), which is the
@@ -85,6 +88,15 @@ pub fn fmu_bytes(contents: &FmuContents) -> Result<Vec<u8>, String> {
         zip.write_all(bytes)
             .map_err(|e| format!("could not write the zip archive: {e}"))?;
     }
+    for (name, bytes) in contents.figures {
+        zip.start_file(
+            format!("documentation/{name}"),
+            base.unix_permissions(0o644),
+        )
+        .map_err(zip_err)?;
+        zip.write_all(bytes)
+            .map_err(|e| format!("could not write the zip archive: {e}"))?;
+    }
     Ok(zip.finish().map_err(zip_err)?.into_inner())
 }
 
@@ -130,6 +142,7 @@ mod tests {
             model_description: b"<?xml version=\"1.0\"?><fmiModelDescription/>",
             binary,
             documentation: b"<!DOCTYPE html><html><body>RLC</body></html>",
+            figures: &[],
         }
     }
 
@@ -185,6 +198,35 @@ mod tests {
             .map(|e| e.unwrap().file_name())
             .collect();
         assert_eq!(left, ["RlcCircuit.fmu"]);
+    }
+
+    #[test]
+    fn figures_follow_the_documentation() {
+        let figures = vec![
+            ("RlcCircuit_a.png".to_owned(), b"\x89PNG a".to_vec()),
+            ("RlcCircuit_b.png".to_owned(), b"\x89PNG b".to_vec()),
+        ];
+        let contents = FmuContents {
+            figures: &figures,
+            ..contents(b"binary")
+        };
+        let bytes = fmu_bytes(&contents).unwrap();
+        let mut archive = zip::ZipArchive::new(Cursor::new(bytes)).unwrap();
+        let names: Vec<String> = archive
+            .file_names()
+            .map(|n| n.unwrap().into_owned())
+            .collect();
+        assert_eq!(names.len(), 5);
+        assert_eq!(names[2], "documentation/index.html");
+        assert_eq!(names[3], "documentation/RlcCircuit_a.png");
+        assert_eq!(names[4], "documentation/RlcCircuit_b.png");
+        let mut got = Vec::new();
+        archive
+            .by_name("documentation/RlcCircuit_b.png")
+            .unwrap()
+            .read_to_end(&mut got)
+            .unwrap();
+        assert_eq!(got, b"\x89PNG b");
     }
 
     #[test]
