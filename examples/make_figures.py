@@ -25,6 +25,7 @@ SCRIPTS = [
     "table3_3_activity",
     "tgv_thermal",
     "torque_sensor",
+    "shaft_line_short_circuit",
 ]
 
 

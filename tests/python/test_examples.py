@@ -40,6 +40,7 @@ OUTPUTS = {
     "table3_3_activity": ["MotorFan_table3_3.md", "MotorFan_table3_3.png"],
     "tgv_thermal": ["TractionMotorThermal_heating.png"],
     "torque_sensor": ["TorqueSensor_characteristic.png"],
+    "shaft_line_short_circuit": ["ShaftLine_short_circuit.png"],
 }
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
