@@ -1,5 +1,5 @@
 //! `fmu-bench`: the native side of the benchmark (issue 11; `bench/run.sh` runs it, BENCHMARKS.md
-//! explains the figures). Two subcommands:
+//! explains the figures). Subcommands:
 //!
 //! ```text
 //! fmu-bench package-floors --empty-step LIB --null-step LIB --out DIR
@@ -7,12 +7,15 @@
 //! fmu-bench run --dist DIR --floors DIR [--pythonfmu FMU] [--repeats N] --out DIR
 //!     times every contender from this native host and writes DIR/rust.json and, for each
 //!     MotorFan-like run, DIR/traj_<label>.csv (t, motor_speed, shaft_torque on the 1 ms grid)
+//! fmu-bench memory --fmu FMU
+//!     memory per instance of one FMU (`run` starts it in a child process for each FMU)
 //! ```
 //!
 //! Timing: each repeat instantiates a fresh instance, initializes it, then times the stepping
 //! loop alone (`fmi2DoStep` followed by `fmi2GetReal` of the recorded outputs, into preallocated
-//! buffers); the figure is the median over the repeats. The communication points are `i * h`,
-//! never a running sum.
+//! buffers) in CPU time of the thread and in wall time; the figure is the median over the
+//! repeats, which run in rounds over all contenders. The communication points are `i * h`, never
+//! a running sum.
 //!
 //! The pythonfmu FMU needs libpython preloaded in a native host (`LD_PRELOAD`, see
 //! /work/shared/TOOLS.md) and the venv's site-packages on `PYTHONPATH`; `bench/run.sh` sets both.
