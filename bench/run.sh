@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# The benchmark of issue 11 in one command (see BENCHMARKS.md):
+#   bench/run.sh [--repeats N]
+# 1. builds every FMU into dist/ and the benchmark crates (bench/harness, bench/empty-step,
+#    bench/null-fmu) in release, and zips the two floor FMUs into target/bench/;
+# 2. makes .venv (tests/requirements.txt + bench/requirements.txt, pinned) unless it is there;
+# 3. runs bench/run.py: builds the pythonfmu FMU, runs the native host (fmu-bench), fmpy, scipy
+#    and the allocation count, and writes target/bench/results.md (the tables of BENCHMARKS.md).
+# Not part of ./test.sh: speed is never asserted by a test.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+echo "== build (release)"
+cargo run --release -p build-fmus
+cargo build --release -p fmu-bench -p empty-step -p null-fmu
+target_dir="${CARGO_TARGET_DIR:-target}"
+mkdir -p target/bench
+"$target_dir/release/fmu-bench" package-floors --empty-step "$target_dir/release/libempty_step.so" \
+    --null-step "$target_dir/release/libNullStep.so" --out target/bench
+
+echo "== Python environment (.venv)"
+if [ ! -x .venv/bin/python ]; then
+    python3 -m venv .venv
+fi
+.venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/requirements.txt -r bench/requirements.txt
+
+echo "== benchmark"
+.venv/bin/python bench/run.py "$@"
