@@ -152,6 +152,23 @@ pub struct Instance<M: Model> {
     /// fmi2SetRealInputDerivatives), cleared after each step and when the input is set.
     input_slopes: Vec<f64>,
     input_curvatures: Vec<f64>,
+    /// Buffers reused by every doStep, so that steady stepping allocates nothing.
+    buffers: Buffers,
+}
+
+/// Work vectors of `do_step` and `settle_modes`, kept between calls (their contents carry
+/// nothing from one call to the next).
+#[derive(Default)]
+struct Buffers {
+    /// The states being advanced over a step.
+    x: Vec<f64>,
+    /// The input slopes of a step.
+    slopes: Vec<f64>,
+    /// The modes at the start of a step (restored when it fails).
+    modes: Vec<i32>,
+    /// A mode update's trial modes and states.
+    trial_modes: Vec<i32>,
+    trial_states: Vec<f64>,
 }
 
 impl<M: Model> Instance<M> {
@@ -183,6 +200,7 @@ impl<M: Model> Instance<M> {
             snapshots: SnapshotStore::default(),
             input_slopes: Vec::new(),
             input_curvatures: Vec::new(),
+            buffers: Buffers::default(),
         };
         inst.input_slopes = vec![0.0; inst.table.n_known];
         inst.input_curvatures = vec![0.0; inst.table.n_known];
@@ -378,6 +396,7 @@ impl<M: Model> Instance<M> {
             self.info.solver,
             self.experiment.tolerance.unwrap_or(DEFAULT_RELATIVE_TOLERANCE),
             &self.table.state_nominals(),
+            &self.table.state_known_index,
         )
     }
 
@@ -406,22 +425,33 @@ impl<M: Model> Instance<M> {
             )));
         }
         let t_end = t + h;
-        let mut x = self.states.clone();
-        let slopes = self.extrapolated_slopes(t);
-        if let Err(message) = self.integrate(t, &mut x, t_end, &slopes) {
+        let mut x = std::mem::take(&mut self.buffers.x);
+        x.clone_from(&self.states);
+        let mut slopes = std::mem::take(&mut self.buffers.slopes);
+        self.extrapolated_slopes(t, &mut slopes);
+        let result = self.integrate(t, &mut x, t_end, &slopes);
+        if let Err(message) = result {
+            (self.buffers.x, self.buffers.slopes) = (x, slopes);
             self.mode = Mode::StepFailed;
             return Err(Failure {
                 status: fmi2Discard,
                 message: format!("step from {t} s to {t_end} s discarded, the instance stays at {t} s: {message}"),
             });
         }
-        self.previous_inputs = Some((t, self.values.known.clone()));
+        match &mut self.previous_inputs {
+            Some((t_prev, previous)) => {
+                *t_prev = t;
+                previous.clone_from(&self.values.known);
+            }
+            None => self.previous_inputs = Some((t, self.values.known.clone())),
+        }
         // At the end of the step the inputs are where their motion took them, so outputs that
         // depend on inputs directly (a shaft's torque) are those of t_end, not of t.
         for (i, (slope, curvature)) in slopes.iter().zip(&self.input_curvatures).enumerate() {
             self.values.known[i] += slope * h + 0.5 * curvature * h * h;
         }
-        self.states = x;
+        std::mem::swap(&mut self.states, &mut x);
+        (self.buffers.x, self.buffers.slopes) = (x, slopes);
         self.time = t_end;
         self.store_states();
         // Input derivatives describe one step; the master sets new values (and derivatives)
@@ -435,8 +465,8 @@ impl<M: Model> Instance<M> {
     /// The input slopes for a step from `t`: the master's input derivatives where it gave them;
     /// with `extrapolate_inputs` on, the line through the previous and the current communication
     /// point for the other inputs.
-    fn extrapolated_slopes(&self, t: f64) -> Vec<f64> {
-        let mut slopes = self.input_slopes.clone();
+    fn extrapolated_slopes(&self, t: f64, slopes: &mut Vec<f64>) {
+        slopes.clone_from(&self.input_slopes);
         let on = self.runtime.extrapolate_inputs.is_some_and(|b| self.values.booleans[b.index()]);
         if let (true, Some((t_prev, previous))) = (on, &self.previous_inputs) {
             if t > *t_prev {
@@ -449,7 +479,6 @@ impl<M: Model> Instance<M> {
                 }
             }
         }
-        slopes
     }
 
     /// Integrates from `t` to `t_end`, stopping at every time event the model announces and at
@@ -457,24 +486,35 @@ impl<M: Model> Instance<M> {
     /// restarts. On failure the modes are those of `t` again (the step is discarded).
     fn integrate(&mut self, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64]) -> Result<(), String> {
         let mut integrator = self.integrator.take().ok_or("the instance has no ODE solver (initialization did not finish)")?;
-        let (modes, step_size) = (self.values.integers.clone(), integrator.step_size);
-        let result = self.integrate_with(&mut integrator, t, x, t_end, slopes);
+        let step_size = integrator.step_size;
+        let mut modes = std::mem::take(&mut self.buffers.modes);
+        modes.clone_from(&self.values.integers);
+        let curvatures = std::mem::take(&mut self.input_curvatures);
+        let mut result = self.integrate_with(&mut integrator, t, x, t_end, slopes, &curvatures);
+        self.input_curvatures = curvatures;
         if result.is_err() && self.values.integers != modes {
-            self.values.integers = modes;
-            integrator = self.make_integrator()?;
-            integrator.step_size = step_size;
+            self.values.integers.copy_from_slice(&modes);
+            match self.make_integrator() {
+                Ok(made) => {
+                    integrator = made;
+                    integrator.step_size = step_size;
+                }
+                Err(message) => result = Err(message),
+            }
         }
+        self.buffers.modes = modes;
         self.integrator = Some(integrator);
         result
     }
 
-    fn integrate_with(&mut self, integrator: &mut Integrator, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64]) -> Result<(), String> {
-        let curvatures = self.input_curvatures.clone();
+    fn integrate_with(&mut self, integrator: &mut Integrator, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64], curvatures: &[f64]) -> Result<(), String> {
         // Inputs or tunable parameters set at this communication point may change the modes
         // (a force above the static friction breaks a stuck body loose) without any indicator
         // crossing zero during integration.
-        let known = self.values.known.clone();
-        if self.settle_modes(t, &known, x)?.0 {
+        let known = std::mem::take(&mut self.values.known);
+        let settled = self.settle_modes(t, &known, x);
+        self.values.known = known;
+        if settled?.0 {
             let step_size = integrator.step_size;
             *integrator = self.make_integrator()?;
             integrator.step_size = step_size;
@@ -483,7 +523,7 @@ impl<M: Model> Instance<M> {
         let (mut last_event, mut at_one_instant) = (f64::NEG_INFINITY, 0usize);
         for _ in 0..MAX_EVENTS_PER_STEP {
             let v = &self.values;
-            let motion = InputMotion { slopes, curvatures: &curvatures, since: t };
+            let motion = InputMotion { slopes, curvatures, since: t };
             let k = Knowns::new(now, &v.known, x, &v.integers, &v.booleans);
             // An event within rounding of the step's end is taken as the end (a master's
             // float time 9.999999999999897 s for an event at 10 s).
@@ -522,7 +562,7 @@ impl<M: Model> Instance<M> {
             }
             // The modes after the event (a time event may change them too: a voltage step can
             // break a stuck body loose). The solver is re-made with the new modes.
-            let known = self.knowns_moved_to(now, t, slopes, &curvatures);
+            let known = self.knowns_moved_to(now, t, slopes, curvatures);
             let (modes_changed, _) = self.settle_modes(now, &known, x)?;
             if modes_changed {
                 let step_size = integrator.step_size;
@@ -545,25 +585,34 @@ impl<M: Model> Instance<M> {
     /// returns (modes changed, states changed). Only the model's modes can change: the handles
     /// of `ModeUpdate` are the modes it declared.
     fn settle_modes(&mut self, time: f64, known: &[f64], x: &mut [f64]) -> Result<(bool, bool), String> {
+        let mut modes = std::mem::take(&mut self.buffers.trial_modes);
+        let mut states = std::mem::take(&mut self.buffers.trial_states);
+        let result = self.settle_modes_with(time, known, x, &mut modes, &mut states);
+        (self.buffers.trial_modes, self.buffers.trial_states) = (modes, states);
+        result
+    }
+
+    fn settle_modes_with(&mut self, time: f64, known: &[f64], x: &mut [f64], modes: &mut Vec<i32>, states: &mut Vec<f64>) -> Result<(bool, bool), String> {
         let (mut modes_changed, mut states_changed) = (false, false);
         for _ in 0..MAX_MODE_ITERATIONS {
-            let mut modes = self.values.integers.clone();
-            let mut states = x.to_vec();
+            modes.clone_from(&self.values.integers);
+            states.clear();
+            states.extend_from_slice(x);
             let reinitialized = {
                 let k = Knowns::new(time, known, x, &self.values.integers, &self.values.booleans);
-                let mut next = ModeUpdate::new(&mut modes, &mut states);
+                let mut next = ModeUpdate::new(modes, states);
                 self.model.update_modes(&k, &mut next);
                 next.reinitialized()
             };
-            let changed = modes != self.values.integers;
+            let changed = *modes != self.values.integers;
             if !changed && !reinitialized {
                 return Ok((modes_changed, states_changed));
             }
             if let Some(i) = states.iter().position(|v| !v.is_finite()) {
                 return Err(format!("the mode update at t = {time} s set state {i} to {}", states[i]));
             }
-            self.values.integers = modes;
-            x.copy_from_slice(&states);
+            self.values.integers.copy_from_slice(modes);
+            x.copy_from_slice(states);
             modes_changed |= changed;
             states_changed |= reinitialized;
             self.stale = true;
@@ -1320,6 +1369,76 @@ mod tests {
         let mut dx = [1.0; 2];
         i.get_derivatives(&mut dx).unwrap();
         assert_eq!(dx, [0.0, 0.0]);
+    }
+
+    /// Steps `a` from `*t` by `h`, and again a twin restored from `a`'s serialized state of
+    /// before the step: `a` keeps its solver alive, the twin makes one afresh. Their states,
+    /// knowns, modes and step sizes must agree bit for bit.
+    fn step_twice<M: Model>(a: &mut Instance<M>, twin: &mut Instance<M>, t: &mut f64, h: f64) {
+        let saved = a.get_fmu_state(None).unwrap();
+        let bytes = a.serialize_fmu_state(saved).unwrap();
+        a.free_fmu_state(saved).unwrap();
+        let restored = twin.deserialize_fmu_state(&bytes, None).unwrap();
+        twin.set_fmu_state(restored).unwrap();
+        twin.free_fmu_state(restored).unwrap();
+        a.do_step(*t, h).unwrap();
+        twin.do_step(*t, h).unwrap();
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&a.states), bits(&twin.states), "states after the step from {t}");
+        assert_eq!(bits(&a.values.known), bits(&twin.values.known), "knowns after the step from {t}");
+        assert_eq!(a.values.integers, twin.values.integers, "modes after the step from {t}");
+        let step_size = |i: &Instance<M>| i.integrator.as_ref().and_then(|g| g.step_size).map(f64::to_bits);
+        assert_eq!(step_size(a), step_size(twin), "step size after the step from {t}");
+        *t += h;
+    }
+
+    #[test]
+    fn a_kept_solver_steps_as_one_made_afresh_from_a_saved_state() {
+        // The sliding block: slips, sticks at 2 s (a state event), is pushed loose, sticks again.
+        let (mut a, mut twin) = (block(Interface::CoSimulation), block(Interface::CoSimulation));
+        let u = a.table().by_name("u").unwrap().value_reference;
+        let mut t = 0.0;
+        for k in 0..120 {
+            match k {
+                60 => a.set(&[u], &[2.5]).unwrap(),
+                80 => a.set(&[u], &[-1.0]).unwrap(),
+                _ => {}
+            }
+            step_twice(&mut a, &mut twin, &mut t, 0.05);
+        }
+        assert_eq!(named(&mut a, "state_events"), 2.0, "both events were crossed");
+        // Decay with inputs: held, ramped by input derivatives, changed, held again; with and
+        // without input extrapolation.
+        for extrapolate in [false, true] {
+            let decay = || {
+                let mut i = Instance::<Decay>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+                let flag = i.table().by_name("extrapolate_inputs").unwrap().value_reference;
+                i.set(&[flag], &[extrapolate]).unwrap();
+                i.setup_experiment(Some(1e-8), 0.0, None).unwrap();
+                i.enter_initialization_mode().unwrap();
+                i.exit_initialization_mode().unwrap();
+                i
+            };
+            let (mut a, mut twin) = (decay(), decay());
+            let mut t = 0.0;
+            for k in 0..60 {
+                match k {
+                    10..=19 => {
+                        a.set(&[1], &[0.1 * k as f64]).unwrap();
+                        a.set_input_derivatives(&[1], &[1], &[0.3]).unwrap();
+                    }
+                    20..=39 => a.set(&[1], &[(k as f64).sin()]).unwrap(),
+                    _ => {}
+                }
+                step_twice(&mut a, &mut twin, &mut t, 0.01);
+            }
+        }
+        // The implicit solver (re-made every step anyway).
+        let (mut a, mut twin) = (block_of::<crate::test_model::ImplicitBlock>(Interface::CoSimulation), block_of::<crate::test_model::ImplicitBlock>(Interface::CoSimulation));
+        let mut t = 0.0;
+        for _ in 0..60 {
+            step_twice(&mut a, &mut twin, &mut t, 0.05);
+        }
     }
 
     #[test]

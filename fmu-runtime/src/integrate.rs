@@ -5,11 +5,14 @@
 //! values) followed by each known's first and second time derivative and the time they refer
 //! to, refreshed before each step: inputs set by the master are held constant over the step
 //! (zero-order hold) unless the master gave their derivatives (fmi2SetRealInputDerivatives),
-//! then they follow u + u' (t - t_k) + u'' (t - t_k)^2 / 2. Each `advance` makes the solver from our own
-//! `(t, x, h)` — the communication point, the state and the step size the solver reached last —
-//! so that an FMU state saved and restored (or serialized) continues bit-identically: nothing
-//! else carries over between steps. The instance keeps its own exact time; the solver's time
-//! after `TstopReached` is never trusted over it.
+//! then they follow u + u' (t - t_k) + u'' (t - t_k)^2 / 2. The explicit solver is kept alive
+//! between steps while that vector stays the same (it is canonical: see `fill_parameters`), and
+//! each `advance` starts it from exactly the state a solver made afresh from our own `(t, x, h)`
+//! — the communication point, the state and the step size the solver reached last — would have,
+//! so that an FMU state saved and restored (or serialized) continues bit-identically (see
+//! `Integrator::advance_kept`). The implicit solver is made afresh for every advance. The
+//! instance keeps its own exact time; the solver's time after `TstopReached` is never trusted
+//! over it.
 //!
 //! State events: a model with event indicators gets them evaluated after every accepted internal
 //! step (with the modes of this segment, which hold over it). Where one changes sign — from > 0
@@ -23,9 +26,9 @@
 use std::sync::Arc;
 
 use diffsol::{
-    Closure, ConstantClosure, NalgebraLU, NalgebraMat, NalgebraVec, OdeBuilder, OdeSolverEquations,
-    OdeEquations, OdeSolverMethod, OdeSolverProblem, OdeSolverState, OdeSolverStopReason, RkState,
-    UnitCallable, Vector,
+    ConstantOp, ExplicitRk, NalgebraContext, NalgebraLU, NalgebraMat, NalgebraVec, NonLinearOp, NonLinearOpJacobian, OdeBuilder,
+    OdeEquations, OdeEquationsRef, OdeSolverMethod, OdeSolverProblem, OdeSolverState, OdeSolverStopReason, Op, ParameterisedOp,
+    RkState, UnitCallable, Vector, VectorCommon,
 };
 use diffsol::ode_solver::state::StateCommon;
 
@@ -36,11 +39,137 @@ type Mat = NalgebraMat<f64>;
 type Vect = NalgebraVec<f64>;
 type RhsFn = Box<dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync>;
 type JacFn = Box<dyn Fn(&[f64], &[f64], f64, &[f64], &mut [f64]) + Send + Sync>;
-type InitFn = Box<dyn Fn(&[f64], f64, &mut [f64]) + Send + Sync>;
 type IndicatorDyn = dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync;
 type IndicatorFn = Box<IndicatorDyn>;
 type Unit = UnitCallable<Mat>;
-type Equations = OdeSolverEquations<Mat, Closure<Mat, RhsFn, JacFn>, ConstantClosure<Mat, InitFn>, Unit, Unit, Unit, Unit>;
+
+/// A model's ODE as diffsol sees it: x' = f(t, x; p) and the product of its Jacobian with a
+/// vector. Our own operator types rather than diffsol's `Closure`, which counts its calls in a
+/// `RefCell`: a problem with interior mutability is not `Sync`, so a solver borrowing it would
+/// not be `Send`, and an instance keeping its solver alive could no longer move between
+/// threads (FMI lets a master call an instance from any thread, one at a time).
+pub struct Equations {
+    rhs: RhsFn,
+    jac: JacFn,
+    p: Vect,
+    n_states: usize,
+    ctx: NalgebraContext,
+}
+
+/// f(t, x; p) of [`Equations`].
+pub struct Rhs<'a>(&'a Equations);
+
+/// The initial state of [`Equations`] (never used: every solver starts from a state we give it).
+pub struct Init<'a>(&'a Equations);
+
+macro_rules! op_of_equations {
+    ($t:ty) => {
+        impl Op for $t {
+            type T = f64;
+            type V = Vect;
+            type M = Mat;
+            type C = NalgebraContext;
+            fn context(&self) -> &NalgebraContext {
+                &self.eqn().ctx
+            }
+            fn nstates(&self) -> usize {
+                self.eqn().n_states
+            }
+            fn nout(&self) -> usize {
+                self.eqn().n_states
+            }
+            fn nparams(&self) -> usize {
+                self.eqn().p.len()
+            }
+        }
+    };
+}
+
+trait OfEquations {
+    fn eqn(&self) -> &Equations;
+}
+impl OfEquations for Equations {
+    fn eqn(&self) -> &Equations {
+        self
+    }
+}
+impl OfEquations for Rhs<'_> {
+    fn eqn(&self) -> &Equations {
+        self.0
+    }
+}
+impl OfEquations for Init<'_> {
+    fn eqn(&self) -> &Equations {
+        self.0
+    }
+}
+op_of_equations!(Equations);
+op_of_equations!(Rhs<'_>);
+op_of_equations!(Init<'_>);
+
+impl NonLinearOp for Rhs<'_> {
+    fn call_inplace(&self, x: &Vect, t: f64, y: &mut Vect) {
+        (self.0.rhs)(x.inner().as_slice(), self.0.p.inner().as_slice(), t, y.inner_mut().as_mut_slice());
+    }
+}
+
+impl NonLinearOpJacobian for Rhs<'_> {
+    fn jac_mul_inplace(&self, x: &Vect, t: f64, v: &Vect, y: &mut Vect) {
+        (self.0.jac)(x.inner().as_slice(), self.0.p.inner().as_slice(), t, v.inner().as_slice(), y.inner_mut().as_mut_slice());
+    }
+}
+
+impl ConstantOp for Init<'_> {
+    fn call_inplace(&self, _t: f64, y: &mut Vect) {
+        y.fill(0.0);
+    }
+}
+
+impl<'a> OdeEquationsRef<'a> for Equations {
+    type Mass = ParameterisedOp<'a, Unit>;
+    type Rhs = Rhs<'a>;
+    type Root = ParameterisedOp<'a, Unit>;
+    type Init = Init<'a>;
+    type Out = ParameterisedOp<'a, Unit>;
+    type Reset = ParameterisedOp<'a, Unit>;
+}
+
+impl OdeEquations for Equations {
+    fn rhs(&self) -> Rhs<'_> {
+        Rhs(self)
+    }
+    fn mass(&self) -> Option<ParameterisedOp<'_, Unit>> {
+        None
+    }
+    fn init(&self) -> Init<'_> {
+        Init(self)
+    }
+    fn set_params(&mut self, p: &Vect) {
+        self.p.copy_from(p);
+    }
+    fn get_params(&self, p: &mut Vect) {
+        p.copy_from(&self.p);
+    }
+}
+
+type Tsit<'a> = ExplicitRk<'a, Equations>;
+
+self_cell::self_cell!(
+    /// A problem and the explicit solver that borrows it, kept alive across communication steps.
+    struct KeptSolver {
+        owner: OdeSolverProblem<Equations>,
+        #[not_covariant]
+        dependent: Tsit,
+    }
+);
+
+/// The problem alone, or the problem with a live explicit solver (one per instance: the
+/// variants' sizes do not matter).
+#[allow(clippy::large_enum_variant)]
+enum Held {
+    Problem(OdeSolverProblem<Equations>),
+    Kept(KeptSolver),
+}
 
 /// Internal solver steps allowed in one communication step before it is abandoned: a bound
 /// that turns a runaway (a model that became too stiff for an explicit method, a state blowing
@@ -71,16 +200,26 @@ pub struct InputMotion<'a> {
     pub since: f64,
 }
 
-/// The solver's parameter vector: [known (n), slopes (n), curvatures (n), since, moving].
-fn parameters(known: &[f64], motion: &InputMotion) -> Vec<f64> {
+/// Writes the solver's parameter vector [known (n), slopes (n), curvatures (n), since, moving]
+/// into `p`, canonical: the state start slots of the knowns (`state_known`, overwritten by
+/// every step and never read by the equations, which read the states from x) are zero, and so
+/// is `since` when no input moves, so that steady stepping sees the same vector step after step.
+fn fill_parameters(p: &mut Vec<f64>, known: &[f64], motion: &InputMotion, state_known: &[usize]) {
     let moving = motion.slopes.iter().chain(motion.curvatures).any(|v| *v != 0.0);
-    let mut p = Vec::with_capacity(3 * known.len() + 2);
+    p.clear();
     p.extend_from_slice(known);
+    for k in state_known {
+        p[*k] = 0.0;
+    }
     p.extend_from_slice(motion.slopes);
     p.extend_from_slice(motion.curvatures);
-    p.push(motion.since);
+    p.push(if moving { motion.since } else { 0.0 });
     p.push(if moving { 1.0 } else { 0.0 });
-    p
+}
+
+/// Equal bit for bit (a changed sign of zero counts as a change).
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// Calls `f` with the knowns at t from the parameter vector of `parameters`: extrapolated to t
@@ -133,7 +272,8 @@ pub fn crossed(a: f64, b: f64) -> bool {
 
 /// One instance's ODE integrator.
 pub struct Integrator {
-    problem: OdeSolverProblem<Equations>,
+    /// Always Some between calls (taken while the problem changes hands).
+    held: Option<Held>,
     rhs: RhsFn,
     /// The model's event indicators, with the modes fixed when this integrator was made.
     indicators: Option<IndicatorFn>,
@@ -141,13 +281,30 @@ pub struct Integrator {
     method: Solver,
     rtol: f64,
     atol: Vec<f64>,
+    /// The known-reals slots of the state start values (zero in the parameter vector).
+    state_known: Vec<usize>,
+    /// The parameter vector set in the problem, and the next one (a buffer).
+    p: Vec<f64>,
+    p_next: Vec<f64>,
+    /// Whether the kept solver's state holds a derivative equal to f(t, y) with `p`: true after
+    /// it completed a step (tsit45's last stage is f at the step's end, bit for bit).
+    at_end: bool,
+    /// Buffers: the state `run_to` reached, an interpolated state, event indicators.
+    y_end: Vec<f64>,
+    y_work: Vect,
+    z: Vec<f64>,
+    z_prev: Vec<f64>,
     /// The step size the solver reached at the end of the last communication step
     /// (None before the first step: diffsol's starting-step heuristic then chooses).
     pub step_size: Option<f64>,
+    /// diffsol's step-size controller is the integral one (no memory of the previous error
+    /// norm), so a kept solver steps as a re-made one would; otherwise it is re-made.
+    integral_controller: bool,
 }
 
 impl Integrator {
     /// Builds the problem for a model whose integer and boolean parameters are fixed from now on.
+    #[allow(clippy::too_many_arguments)]
     pub fn new<M: Model>(
         model: Arc<M>,
         known: &[f64],
@@ -158,6 +315,7 @@ impl Integrator {
         method: Solver,
         rtol: f64,
         nominals: &[f64],
+        state_known: &[usize],
     ) -> Result<Self, String> {
         let integers: Arc<[i32]> = integers.into();
         let booleans: Arc<[bool]> = booleans.into();
@@ -184,84 +342,184 @@ impl Integrator {
             }
         });
         let rhs: RhsFn = Box::new(f.clone());
-        let init: InitFn = Box::new(move |_p: &[f64], _t: f64, y: &mut [f64]| y.fill(0.0));
         let atol: Vec<f64> = nominals.iter().map(|n| ABSOLUTE_PER_RELATIVE * rtol * n.abs().max(f64::MIN_POSITIVE)).collect();
+        let zeros = vec![0.0; known.len()];
+        let mut p = Vec::with_capacity(3 * known.len() + 2);
+        fill_parameters(&mut p, known, &InputMotion { slopes: &zeros, curvatures: &zeros, since: 0.0 }, state_known);
+        let ctx = NalgebraContext::default();
+        let eqn = Equations { rhs: Box::new(f), jac, p: Vect::zeros(p.len(), ctx), n_states, ctx };
         let problem = OdeBuilder::<Mat>::new()
             .rtol(rtol)
             .atol(atol.clone())
-            .p(parameters(known, &InputMotion { slopes: &vec![0.0; known.len()], curvatures: &vec![0.0; known.len()], since: 0.0 }))
-            .rhs_implicit(Box::new(f) as RhsFn, jac)
-            .init(init, n_states)
-            .build()
+            .p(p.clone())
+            .build_from_eqn(eqn)
             .map_err(|e| format!("could not set up the ODE solver: {e}"))?;
-        Ok(Integrator { problem, rhs, indicators, n_indicators, method, rtol, atol, step_size: None })
+        let integral_controller = problem.ode_options.pi_control_proportional == 0.0;
+        Ok(Integrator {
+            integral_controller,
+            held: Some(Held::Problem(problem)),
+            rhs,
+            indicators,
+            n_indicators,
+            method,
+            rtol,
+            atol,
+            state_known: state_known.to_vec(),
+            p_next: Vec::with_capacity(p.len()),
+            p,
+            at_end: false,
+            y_end: Vec::with_capacity(n_states),
+            y_work: Vect::zeros(n_states, ctx),
+            z: vec![0.0; n_indicators],
+            z_prev: vec![0.0; n_indicators],
+            step_size: None,
+        })
+    }
+
+    /// The problem, without a solver (a kept solver is dropped).
+    fn take_problem(&mut self) -> Result<OdeSolverProblem<Equations>, String> {
+        self.at_end = false;
+        match self.held.take() {
+            Some(Held::Problem(problem)) => Ok(problem),
+            Some(Held::Kept(kept)) => Ok(kept.into_owner()),
+            None => Err("the ODE solver was lost after an earlier failure".to_string()),
+        }
     }
 
     /// Advances `x` from `t0` to `t1` with the knowns at `known` moving as `motion` says, or
     /// to the first zero crossing of an event indicator before `t1`. On error `x` is left
     /// unchanged and the message says why (reported through the FMI logger).
     pub fn advance(&mut self, known: &[f64], motion: &InputMotion, t0: f64, x: &mut [f64], t1: f64) -> Result<Advanced, String> {
-        let p = parameters(known, motion);
         if x.is_empty() {
             return Ok(Advanced::Reached);
         }
+        let mut p = std::mem::take(&mut self.p_next);
+        fill_parameters(&mut p, known, motion, &self.state_known);
         // A step so short that t0 + h rounds to t0 (relative to t0) cannot be resolved by a
         // solver's stop time; one explicit Euler step is exact to O(h^2) there.
         if t1 - t0 <= negligible_interval(t0) {
             let mut dx = vec![0.0; x.len()];
             (self.rhs)(x, &p, t0, &mut dx);
+            self.p_next = p;
             for (xi, d) in x.iter_mut().zip(&dx) {
                 *xi += (t1 - t0) * d;
             }
             return check_finite(x, t1).map(|_| Advanced::Reached);
         }
-        let ctx = *self.problem.context();
-        self.problem.eqn_mut().set_params(&Vect::from_slice(&p, ctx));
-        let y = Vect::from_slice(x, ctx);
-        let mut dx = vec![0.0; x.len()];
-        (self.rhs)(x, &p, t0, &mut dx);
-        let dy = Vect::from_vec(dx, ctx);
-        let empty = || Vect::zeros(0, ctx);
-        let mut state = RkState::new_from_common(StateCommon {
-            y,
-            dy,
-            g: empty(),
-            dg: empty(),
-            s: empty(),
-            ds: empty(),
-            sg: empty(),
-            dsg: empty(),
-            t: t0,
-            h: self.step_size.unwrap_or(self.problem.h0),
-        });
-        let order = match self.method {
-            Solver::ExplicitRungeKutta => 4,
-            Solver::ImplicitRungeKutta => 3,
-        };
-        if self.step_size.is_none() {
-            let atol = Vect::from_slice(&self.atol, ctx);
-            state.as_mut().set_step_size(self.problem.h0, &atol, self.rtol, &self.problem.eqn, order);
+        if !same_bits(&p, &self.p) {
+            let mut problem = match self.take_problem() {
+                Ok(problem) => problem,
+                Err(e) => {
+                    self.p_next = p;
+                    return Err(e);
+                }
+            };
+            let ctx = *problem.context();
+            problem.eqn_mut().set_params(&Vect::from_slice(&p, ctx));
+            self.held = Some(Held::Problem(problem));
+            std::mem::swap(&mut self.p, &mut p);
         }
-        let events = self.indicators.as_ref().map(|g| Events { g: &**g, p: &p, n: self.n_indicators });
-        let (y, h, how) = match self.method {
-            Solver::ExplicitRungeKutta => {
-                let solver = self.problem.tsit45_solver(state).map_err(|e| e.to_string())?;
-                run_to(solver, t0, x, t1, events)?
-            }
-            Solver::ImplicitRungeKutta => {
-                let solver = self.problem.esdirk34_solver::<NalgebraLU<f64>>(state).map_err(|e| e.to_string())?;
-                run_to(solver, t0, x, t1, events)?
-            }
+        self.p_next = p;
+        let (h, how) = match self.method {
+            Solver::ExplicitRungeKutta => self.advance_kept(t0, x, t1)?,
+            Solver::ImplicitRungeKutta => self.advance_remade(t0, x, t1)?,
         };
         let t_reached = match how {
             Advanced::Reached => t1,
             Advanced::Crossing { time, .. } => time,
         };
-        check_finite(&y, t_reached)?;
-        x.copy_from_slice(&y);
+        check_finite(&self.y_end, t_reached)?;
+        x.copy_from_slice(&self.y_end);
         self.step_size = Some(h);
         Ok(how)
     }
+
+    /// The explicit method (tsit45): its solver is kept alive between calls while the parameter
+    /// vector stays the same. Each call starts it from exactly the state a solver made afresh
+    /// from (t0, x0, f(t0, x0), step size) would have, so that a restored FMU state continues
+    /// bit-identically: when the solver stands at (t0, x0) after a completed step its derivative
+    /// already is f(t0, x0) (the method's last stage, first-same-as-last); otherwise the state is
+    /// overwritten with t0, x0, f(t0, x0) and the step size. Nothing else it carries matters to
+    /// its next step (diffsol's step-size controller is the integral one: the previous error
+    /// norm is unused, checked when the problem is made).
+    fn advance_kept(&mut self, t0: f64, x0: &[f64], t1: f64) -> Result<(f64, Advanced), String> {
+        let mut kept = match self.held.take() {
+            Some(Held::Kept(kept)) if self.integral_controller => kept,
+            other => {
+                self.held = other;
+                let problem = self.take_problem()?;
+                let ctx = *problem.context();
+                // Its state is set below.
+                let state = rk_state(Vect::from_slice(x0, ctx), Vect::zeros(x0.len(), ctx), t0, problem.h0);
+                match KeptSolver::try_new_or_recover(problem, |problem| problem.tsit45_solver(state)) {
+                    Ok(kept) => kept,
+                    Err((problem, e)) => {
+                        self.held = Some(Held::Problem(problem));
+                        return Err(e.to_string());
+                    }
+                }
+            }
+        };
+        let at_end = std::mem::replace(&mut self.at_end, false);
+        let (rhs, p, step_size, rtol) = (&self.rhs, &self.p, self.step_size, self.rtol);
+        let atol = &self.atol;
+        let events = self.indicators.as_ref().map(|g| Events { g: &**g, p, n: self.n_indicators });
+        let buffers = Buffers { y_end: &mut self.y_end, y_work: &mut self.y_work, z: &mut self.z, z_prev: &mut self.z_prev };
+        let result = kept.with_dependent_mut(|problem, solver| {
+            let resume = at_end && {
+                let s = solver.state();
+                s.t.to_bits() == t0.to_bits() && same_bits(s.y.inner().as_slice(), x0) && Some(s.h) == step_size
+            };
+            if !resume {
+                let mut s = solver.state_mut();
+                s.y.inner_mut().as_mut_slice().copy_from_slice(x0);
+                rhs(x0, p, t0, s.dy.inner_mut().as_mut_slice());
+                *s.t = t0;
+                *s.h = step_size.unwrap_or(problem.h0);
+                if step_size.is_none() {
+                    let atol = Vect::from_slice(atol, *problem.context());
+                    s.set_step_size(problem.h0, &atol, rtol, &problem.eqn, 4);
+                }
+            }
+            run_to(solver, t0, x0, t1, events.as_ref(), buffers)
+        });
+        self.at_end = result.is_ok();
+        self.held = Some(Held::Kept(kept));
+        result
+    }
+
+    /// The implicit method (esdirk34): made afresh from (t0, x0, f(t0, x0), step size) for every
+    /// call. Kept alive, its Newton iteration and Jacobian would carry over from the previous
+    /// step, so a restored FMU state would not continue bit-identically (and the shared design
+    /// saw a kept esdirk34 fail at a stop time).
+    fn advance_remade(&mut self, t0: f64, x0: &[f64], t1: f64) -> Result<(f64, Advanced), String> {
+        let problem = self.take_problem()?;
+        let result = self.run_remade(&problem, t0, x0, t1);
+        self.held = Some(Held::Problem(problem));
+        result
+    }
+
+    fn run_remade(&mut self, problem: &OdeSolverProblem<Equations>, t0: f64, x0: &[f64], t1: f64) -> Result<(f64, Advanced), String> {
+        let ctx = *problem.context();
+        let mut dx = vec![0.0; x0.len()];
+        (self.rhs)(x0, &self.p, t0, &mut dx);
+        let mut state = rk_state(Vect::from_slice(x0, ctx), Vect::from_vec(dx, ctx), t0, self.step_size.unwrap_or(problem.h0));
+        if self.step_size.is_none() {
+            let atol = Vect::from_slice(&self.atol, ctx);
+            state.as_mut().set_step_size(problem.h0, &atol, self.rtol, &problem.eqn, 3);
+        }
+        let events = self.indicators.as_ref().map(|g| Events { g: &**g, p: &self.p, n: self.n_indicators });
+        let buffers = Buffers { y_end: &mut self.y_end, y_work: &mut self.y_work, z: &mut self.z, z_prev: &mut self.z_prev };
+        let mut solver = problem.esdirk34_solver::<NalgebraLU<f64>>(state).map_err(|e| e.to_string())?;
+        run_to(&mut solver, t0, x0, t1, events.as_ref(), buffers)
+    }
+}
+
+/// A Runge-Kutta solver's state (y, dy = f(t, y), t, h), without outputs or sensitivities.
+fn rk_state(y: Vect, dy: Vect, t: f64, h: f64) -> RkState<Vect> {
+    let ctx = *y.context();
+    let empty = || Vect::zeros(0, ctx);
+    RkState::new_from_common(StateCommon { y, dy, g: empty(), dg: empty(), s: empty(), ds: empty(), sg: empty(), dsg: empty(), t, h })
 }
 
 fn check_finite(x: &[f64], t: f64) -> Result<(), String> {
@@ -281,41 +539,62 @@ struct Events<'a> {
 impl Events<'_> {
     fn at(&self, t: f64, y: &[f64]) -> Vec<f64> {
         let mut z = vec![0.0; self.n];
-        (self.g)(y, self.p, t, &mut z);
+        self.into(t, y, &mut z);
         z
+    }
+
+    fn into(&self, t: f64, y: &[f64], z: &mut [f64]) {
+        (self.g)(y, self.p, t, z);
     }
 }
 
+/// Buffers of `run_to`, kept in the integrator: the state reached (its result), an
+/// interpolated state, the event indicators at the current and the last accepted point.
+struct Buffers<'a> {
+    y_end: &'a mut Vec<f64>,
+    y_work: &'a mut Vect,
+    z: &'a mut Vec<f64>,
+    z_prev: &'a mut Vec<f64>,
+}
+
 /// Steps a solver from (t0, x0) until its stop time `t1` or the first zero crossing of an event
-/// indicator; returns the state there, the step size reached and how it ended.
-fn run_to<'a, S>(mut solver: S, t0: f64, x0: &[f64], t1: f64, events: Option<Events>) -> Result<(Vec<f64>, f64, Advanced), String>
+/// indicator; leaves the state there in `buffers.y_end` and returns the step size reached and
+/// how it ended.
+fn run_to<'a, S>(solver: &mut S, t0: f64, x0: &[f64], t1: f64, events: Option<&Events>, buffers: Buffers) -> Result<(f64, Advanced), String>
 where
     S: OdeSolverMethod<'a, Equations>,
 {
+    let Buffers { y_end, y_work, z, z_prev } = buffers;
     solver.set_stop_time(t1).map_err(|e| format!("could not set the stop time {t1} s: {e}"))?;
     // The indicators at the last accepted point; a zero takes its sign from the next point.
-    let mut z_prev = events.as_ref().map(|e| e.at(t0, x0)).unwrap_or_default();
+    if let Some(ev) = events {
+        ev.into(t0, x0, z_prev);
+    }
     let mut t_prev = t0;
     for _ in 0..MAX_INTERNAL_STEPS {
         match solver.step() {
             Ok(reason) => {
                 let stopped = matches!(reason, OdeSolverStopReason::TstopReached);
-                let state = solver.state();
-                let h = state.h;
-                // Trust our own t1, not the solver's rounding of it.
-                let (t, y) = if !stopped {
-                    (state.t, state.y.clone_as_vec())
-                } else if state.t == t1 {
-                    (t1, state.y.clone_as_vec())
-                } else {
-                    (t1, solver.interpolate(t1).map(|v| v.clone_as_vec()).unwrap_or_else(|_| state.y.clone_as_vec()))
+                let (h, t_solver) = {
+                    let state = solver.state();
+                    (state.h, state.t)
                 };
-                if let Some(ev) = &events {
-                    let z = ev.at(t, &y);
-                    if let Some((time, indicator, y_root)) = first_crossing(&solver, ev, t_prev, &z_prev, t, &z, &y)? {
-                        return Ok((y_root, h, Advanced::Crossing { time, indicator }));
+                // Trust our own t1, not the solver's rounding of it.
+                let interpolated = stopped && t_solver != t1;
+                if interpolated && solver.interpolate_inplace(t1, y_work).is_err() {
+                    y_work.copy_from(solver.state().y);
+                }
+                let t = if stopped { t1 } else { t_solver };
+                let state = solver.state();
+                let y: &[f64] = if interpolated { y_work.inner().as_slice() } else { state.y.inner().as_slice() };
+                if let Some(ev) = events {
+                    ev.into(t, y, z);
+                    if let Some((time, indicator, y_root)) = first_crossing(&*solver, ev, t_prev, z_prev, t, z, y)? {
+                        y_end.clear();
+                        y_end.extend_from_slice(&y_root);
+                        return Ok((h, Advanced::Crossing { time, indicator }));
                     }
-                    for (zp, zi) in z_prev.iter_mut().zip(&z) {
+                    for (zp, zi) in z_prev.iter_mut().zip(z.iter()) {
                         if *zi != 0.0 || *zp == 0.0 {
                             *zp = *zi;
                         }
@@ -323,7 +602,9 @@ where
                 }
                 t_prev = t;
                 if stopped {
-                    return Ok((y, h, Advanced::Reached));
+                    y_end.clear();
+                    y_end.extend_from_slice(y);
+                    return Ok((h, Advanced::Reached));
                 }
             }
             Err(e) => {
