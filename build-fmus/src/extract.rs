@@ -59,7 +59,7 @@ pub fn extract(path: &Path, package: &str) -> Result<ModelInfo, String> {
     })?;
     // A model with problems (a duplicate name, a missing unit, an output never written, ...)
     // says so, each with its source file, line and fix; it is not packaged.
-    if let Some(problems) = call_optional_string(&lib, PROBLEMS_SYMBOL, package)? {
+    if let Some(problems) = call_optional_string(&lib, PROBLEMS_SYMBOL)? {
         return Err(format!("{package}: the model is not valid:\n  {}", problems.replace('\n', "\n  ")));
     }
     let identifier = call_string(&lib, IDENTIFIER_SYMBOL, package)?;
@@ -99,7 +99,7 @@ fn call_string(lib: &Library, symbol: &str, package: &str) -> Result<String, Str
 }
 
 /// Like [`call_string`], for a symbol whose NULL result means "nothing to say".
-fn call_optional_string(lib: &Library, symbol: &str, package: &str) -> Result<Option<String>, String> {
+fn call_optional_string(lib: &Library, symbol: &str) -> Result<Option<String>, String> {
     // SAFETY: the export macro defines the symbol with exactly this signature.
     let Ok(f) = (unsafe { lib.get::<unsafe extern "C" fn() -> *const c_char>(symbol) }) else {
         return Ok(None); // a library built by an older runtime
