@@ -401,7 +401,7 @@ fn run(args: &Args) -> Result<(), String> {
 
     // 4. The other models at their defaults (the stiff ones included), and level d.
     jobs.push(job("MotorFan_d_default".into(), "defaults", &motor_fan, motor_fan_setup(4, None), false, vec![]));
-    for name in ["RlcCircuit", "TractionMotorThermal", "TorqueSensor"] {
+    for name in ["RlcCircuit", "TractionMotorThermal", "TorqueSensor", "ShaftLine"] {
         let fmu = load(&dist.join(format!("{name}.fmu")))?;
         let setup = default_setup(&fmu);
         jobs.push(job(name.into(), "defaults", &fmu, setup, false, vec![]));
