@@ -11,10 +11,14 @@ The FMUs under test are the ones built into dist/ by `cargo run --release -p bui
 
 from __future__ import annotations
 
+import atexit
+import functools
 import os
+import shutil
 from pathlib import Path
 
 import pytest
+from fmpy import extract, read_model_description
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 DIST_DIR = Path(os.environ["FMU_DIST_DIR"]).resolve() if os.environ.get("FMU_DIST_DIR") else REPO_ROOT / "dist"
@@ -38,6 +42,25 @@ def all_fmu_paths() -> list[Path]:
     found = set(DIST_DIR.glob("*.fmu")) if DIST_DIR.is_dir() else set()
     found |= {DIST_DIR / f"{name}.fmu" for name in EXPECTED_FMUS}
     return sorted(found)
+
+
+def fmu_key(fmu: Path) -> tuple[str, float]:
+    """The FMU's path and modification time: a rebuilt FMU is never served from the caches below."""
+    return str(fmu), fmu.stat().st_mtime
+
+
+@functools.lru_cache(maxsize=None)
+def model_description(key: tuple[str, float]):
+    """The FMU's model description, read once per session (key: `fmu_key(path)`)."""
+    return read_model_description(key[0])
+
+
+@functools.lru_cache(maxsize=None)
+def unzipdir(key: tuple[str, float]) -> str:
+    """Extract each FMU once per session (fmpy would extract it again for every simulation)."""
+    d = extract(key[0])
+    atexit.register(shutil.rmtree, d, ignore_errors=True)
+    return d
 
 
 def pytest_generate_tests(metafunc):

@@ -23,16 +23,13 @@ module by the terminal reporter, with or without `pytest -s`.
 
 from __future__ import annotations
 
-import atexit
-import functools
-import shutil
 import time
 
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description, simulate_fmu
+from fmpy import simulate_fmu
 
-from conftest import DIST_DIR, require_fmu
+from conftest import DIST_DIR, fmu_key as _fmu_key, model_description as _model_description, require_fmu, unzipdir as _unzipdir
 
 REL_TOL = 1e-4  # of each output's range over the CS run
 ABS_FLOOR = 1e-12  # the "range" of an output that is constant
@@ -66,24 +63,6 @@ def _print_report(request):
             print(text, flush=True)
     else:  # pragma: no cover (capture plugin disabled)
         print(text, flush=True)
-
-
-def _fmu_key(fmu) -> tuple[str, float]:
-    """The FMU's path and modification time: a rebuilt FMU is never served from the caches."""
-    return str(fmu), fmu.stat().st_mtime
-
-
-@functools.lru_cache(maxsize=None)
-def _model_description(key: tuple[str, float]):
-    return read_model_description(key[0])
-
-
-@functools.lru_cache(maxsize=None)
-def _unzipdir(key: tuple[str, float]) -> str:
-    """Extract each FMU once per session (fmpy would extract it again for every simulation)."""
-    d = extract(key[0])
-    atexit.register(shutil.rmtree, d, ignore_errors=True)
-    return d
 
 
 def real_outputs(md) -> list[str]:

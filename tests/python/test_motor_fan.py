@@ -17,19 +17,17 @@ after the step that ends there; at 1e-3 s this shifts nothing measurable here.
 
 from __future__ import annotations
 
-import atexit
 import functools
 import math
-import shutil
 import time
 
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description, simulate_fmu
+from fmpy import read_model_description, simulate_fmu
 from fmpy.fmi1 import FMICallException
 
 import motor_fan_reference as ref
-from conftest import DIST_DIR, require_fmu
+from conftest import DIST_DIR, fmu_key as _fmu_key, model_description as _model_description, require_fmu, unzipdir as _unzipdir
 from fmi_host import Slave
 
 STOP_TIME = 30.0
@@ -96,24 +94,6 @@ SPEC_PARAMETERS = {
 @pytest.fixture(scope="module")
 def motor_fan_fmu():
     return require_fmu(DIST_DIR / "MotorFan.fmu")
-
-
-def _fmu_key(fmu) -> tuple[str, float]:
-    """The FMU's path and modification time: a rebuilt FMU is never served from the caches."""
-    return str(fmu), fmu.stat().st_mtime
-
-
-@functools.lru_cache(maxsize=None)
-def _model_description(key: tuple[str, float]):
-    return read_model_description(key[0])
-
-
-@functools.lru_cache(maxsize=None)
-def _unzipdir(key: tuple[str, float]) -> str:
-    """Extract the FMU once per session (fmpy would extract it again for every simulation)."""
-    d = extract(key[0])
-    atexit.register(shutil.rmtree, d, ignore_errors=True)
-    return d
 
 
 def _start_value(v):

@@ -60,6 +60,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use fmi_host::dist::{dist_dir, every_fmu_path};
 use fmi_host::ffi::EventInfo;
 use fmi_host::{
     Causality, Fmi2Type, Fmu, Initial, Instance, InstantiateOptions, Status, ValueReference,
@@ -78,23 +79,6 @@ const KINK: f64 = 1e-3;
 /// A central difference is converged when the next smaller step changes it by less than this
 /// (relative to the entry's scale).
 const CONVERGED: f64 = 1e-7;
-
-fn dist_dir() -> PathBuf {
-    std::env::var_os("FMU_DIST_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("dist"))
-}
-
-fn fmu_paths() -> Vec<PathBuf> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(dist_dir())
-        .expect("dist/ exists: run `cargo run --release -p build-fmus` first")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "fmu"))
-        .collect();
-    paths.sort();
-    assert!(!paths.is_empty(), "no FMU in {:?}", dist_dir());
-    paths
-}
 
 /// Writes to the process's stderr, bypassing the test harness's output capture.
 fn report(text: &str) {
@@ -809,7 +793,7 @@ fn default_config() -> Config {
 #[test]
 fn directional_derivatives_match_finite_differences_after_initialization() {
     let (mut text, mut failures) = (String::new(), Vec::new());
-    for path in fmu_paths() {
+    for path in every_fmu_path() {
         let model = Model::load(&path);
         let (t, f) = check_after_initialization(&model, &default_config());
         text += &t;
@@ -821,7 +805,7 @@ fn directional_derivatives_match_finite_differences_after_initialization() {
 #[test]
 fn directional_derivatives_match_finite_differences_in_initialization_mode() {
     let (mut text, mut failures) = (String::new(), Vec::new());
-    for path in fmu_paths() {
+    for path in every_fmu_path() {
         let model = Model::load(&path);
         let config = default_config();
         let (range, _) = cs_ranges(&model, &config);

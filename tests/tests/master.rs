@@ -8,19 +8,13 @@
 //!
 //! `FMU_DIST_DIR` overrides the folder holding the FMUs (default `<workspace>/dist`).
 
-use std::path::PathBuf;
 use std::sync::Arc;
 
 use fmi_host::master::{
     Algorithm, Component, ErrorControl, Master, MasterError, Outcome, System,
 };
+use fmi_host::dist::dist_dir;
 use fmi_host::{Fmu, Status};
-
-fn dist_dir() -> PathBuf {
-    std::env::var_os("FMU_DIST_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("dist"))
-}
 
 fn rlc() -> Arc<Fmu> {
     let path = dist_dir().join("RlcCircuit.fmu");

@@ -5,20 +5,14 @@
 //! `FMU_DIST_DIR` overrides the folder holding the FMUs (default `<workspace>/dist`).
 #![allow(dead_code)]
 
-use std::path::PathBuf;
 use std::sync::Arc;
 
 use fmi_host::master::{Algorithm, Component, ErrorControl, Master, Outcome, System};
+use fmi_host::dist::dist_dir;
 use fmi_host::Fmu;
 
 /// Simulated time of the start-up, s (MotorFan's DefaultExperiment).
 pub const STOP_TIME: f64 = 30.0;
-
-pub fn dist_dir() -> PathBuf {
-    std::env::var_os("FMU_DIST_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("dist"))
-}
 
 pub fn load(model: &str) -> Arc<Fmu> {
     let path = dist_dir().join(format!("{model}.fmu"));
