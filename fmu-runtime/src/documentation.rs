@@ -79,7 +79,9 @@ without rebuilding. Values outside [min, max] are refused with fmi2Error and a m
 <p>Default experiment: {start} s to {stop} s, communication step {step} s.</p>
 <p>Each <code>fmi2DoStep</code> integrates with an adaptive {solver} with error control: relative tolerance from
 <code>fmi2SetupExperiment</code>, else {rtol}; absolute tolerance of each state {atol_factor} &times; rtol &times; its nominal value.
-Inputs are held constant over a communication step. A step that would need more than {max_steps} internal steps, or whose
+Inputs are held constant over a communication step. While nothing changes between communication steps, the explicit solver
+steps past the communication point with its own step size (never past a time event or a defined stop time) and interpolates
+the state there, so a short communication step costs little. A step that would need more than {max_steps} internal steps, or whose
 solution stops being finite, is refused with <code>fmi2Discard</code> and the instance stays at the last communication point.</p>
 <p>Model Exchange: the master's own solver integrates the same equations; the model's non-smooth instants
 (a ramp's end) are announced as time events through fmi2NewDiscreteStates.</p>

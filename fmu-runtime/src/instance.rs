@@ -448,7 +448,10 @@ impl<M: Model> Instance<M> {
         // At the end of the step the inputs are where their motion took them, so outputs that
         // depend on inputs directly (a shaft's torque) are those of t_end, not of t.
         for (i, (slope, curvature)) in slopes.iter().zip(&self.input_curvatures).enumerate() {
-            self.values.known[i] += slope * h + 0.5 * curvature * h * h;
+            // Only moving inputs are written: `+= 0.0` would turn an input's -0.0 into +0.0.
+            if *slope != 0.0 || *curvature != 0.0 {
+                self.values.known[i] += slope * h + 0.5 * curvature * h * h;
+            }
         }
         std::mem::swap(&mut self.states, &mut x);
         (self.buffers.x, self.buffers.slopes) = (x, slopes);
@@ -528,11 +531,20 @@ impl<M: Model> Instance<M> {
             // An event within rounding of the step's end is taken as the end (a master's
             // float time 9.999999999999897 s for an event at 10 s).
             let tiny = negligible_interval(t_end);
-            let next = match self.model.next_time_event(&k, now) {
-                Some(event) if event > now && event < t_end - tiny => event,
+            let event = self.model.next_time_event(&k, now).filter(|e| *e > now);
+            let next = match event {
+                Some(event) if event < t_end - tiny => event,
                 _ => t_end,
             };
-            let how = integrator.advance(&v.known, &motion, now, x, next)?;
+            // How far the explicit solver may step past `next` (it interpolates back): not past
+            // the next time event, nor past a defined stop time (the model may be invalid there).
+            let limit = match event {
+                Some(event) if next == t_end => event.max(t_end),
+                Some(_) => next,
+                None => f64::INFINITY,
+            };
+            let limit = self.experiment.stop_time.map_or(limit, |stop| limit.min(stop)).max(next);
+            let how = integrator.advance(&v.known, &motion, now, x, next, limit)?;
             match how {
                 Advanced::Reached if next == t_end => return Ok(()),
                 Advanced::Reached => {
@@ -932,6 +944,7 @@ impl<M: Model> Instance<M> {
             values: self.values.clone(),
             states: self.states.clone(),
             step_size: self.integrator.as_ref().and_then(|i| i.step_size),
+            lookahead: self.integrator.as_ref().and_then(|i| i.lookahead()),
             input_slopes: self.input_slopes.clone(),
             input_curvatures: self.input_curvatures.clone(),
             previous_inputs: self.previous_inputs.clone(),
@@ -953,6 +966,9 @@ impl<M: Model> Instance<M> {
         if initialized && self.interface == Interface::CoSimulation {
             let mut integrator = self.make_integrator().map_err(Failure::error)?;
             integrator.step_size = s.step_size;
+            if let Some(lookahead) = &s.lookahead {
+                integrator.resume_lookahead(lookahead, self.time, &self.states);
+            }
             self.integrator = Some(integrator);
         }
         Ok(())
@@ -1313,6 +1329,51 @@ mod tests {
     }
 
     #[test]
+    fn the_solver_steps_past_communication_points_but_not_past_a_time_event_or_the_stop_time() {
+        // x' = 0 until t_on = 0.35 s: the error estimate is zero, the steps double each time,
+        // so they reach far past 10 ms communication steps; none passes t_on or the stop time.
+        let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        i.setup_experiment(None, 0.0, Some(1.0)).unwrap();
+        i.enter_initialization_mode().unwrap();
+        i.exit_initialization_mode().unwrap();
+        let (mut t, mut ahead) = (0.0, 0);
+        for _ in 0..100 {
+            i.do_step(t, 0.01).unwrap();
+            t += 0.01;
+            if let Some(la) = i.integrator.as_ref().and_then(|g| g.lookahead()) {
+                // (The last communication point, 100 x 0.01 = 1.0000000000000007 s, passes the
+                // stop time by rounding: accepted, and the bound there.)
+                let bound = if t < 0.35 { 0.35 } else { t.max(1.0) };
+                assert!(la.step.t_end <= bound, "a step to {} s from t = {t} s", la.step.t_end);
+                assert!(la.step.t_start < t && t <= la.step.t_end);
+                ahead += (la.step.t_end > t + 0.01) as usize;
+            }
+        }
+        assert!(ahead > 50, "{ahead} doSteps ended inside a step reaching past the next communication point");
+        assert!((named(&mut i, "x") - 0.65).abs() < 1e-9, "{}", named(&mut i, "x"));
+    }
+
+    #[test]
+    fn a_crossing_past_the_communication_point_waits_for_the_step_that_reaches_it() {
+        // The 3 m/s block sticks at 2 s (v = 3 - 1.5 t); with 10 ms communication steps the solver's
+        // steps reach past 2 s before the doStep that contains it, which alone sees the event.
+        let mut i = block(Interface::CoSimulation);
+        let mut t = 0.0;
+        for _ in 0..250 {
+            i.do_step(t, 0.01).unwrap();
+            t += 0.01;
+            if t < 2.0 - 1e-9 {
+                assert_eq!(named(&mut i, "state_events"), 0.0, "at {t} s");
+                assert!((named(&mut i, "v") - (3.0 - 1.5 * t)).abs() < 1e-9, "at {t} s: {}", named(&mut i, "v"));
+            } else {
+                assert_eq!(named(&mut i, "state_events"), 1.0, "at {t} s");
+                assert_eq!(named(&mut i, "v"), 0.0);
+                assert!((named(&mut i, "x") - 3.0).abs() < 1e-9);
+            }
+        }
+    }
+
+    #[test]
     fn the_implicit_solver_locates_the_same_event() {
         let mut i = block_of::<crate::test_model::ImplicitBlock>(Interface::CoSimulation);
         i.do_step(0.0, 1.5).unwrap();
@@ -1433,6 +1494,28 @@ mod tests {
                 step_twice(&mut a, &mut twin, &mut t, 0.01);
             }
         }
+        // Through a time event, with steps reaching far past the communication points.
+        let switch = || {
+            let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+            i.setup_experiment(None, 0.0, None).unwrap();
+            i.enter_initialization_mode().unwrap();
+            i.exit_initialization_mode().unwrap();
+            i
+        };
+        let (mut a, mut twin) = (switch(), switch());
+        let mut t = 0.0;
+        for _ in 0..60 {
+            step_twice(&mut a, &mut twin, &mut t, 0.01);
+        }
+        // The block with short communication steps: the stick event at 2 s is seen from steps
+        // reaching past it.
+        let (mut a, mut twin) = (block(Interface::CoSimulation), block(Interface::CoSimulation));
+        let mut t = 1.8;
+        a.do_step(0.0, 1.8).unwrap();
+        for _ in 0..40 {
+            step_twice(&mut a, &mut twin, &mut t, 0.01);
+        }
+        assert_eq!(named(&mut a, "state_events"), 1.0);
         // The implicit solver (re-made every step anyway).
         let (mut a, mut twin) = (block_of::<crate::test_model::ImplicitBlock>(Interface::CoSimulation), block_of::<crate::test_model::ImplicitBlock>(Interface::CoSimulation));
         let mut t = 0.0;

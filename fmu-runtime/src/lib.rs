@@ -44,6 +44,7 @@ pub mod documentation;
 pub mod fmi2;
 pub mod instance;
 pub mod integrate;
+pub mod rk;
 pub mod lifecycle;
 pub mod log;
 pub mod model;

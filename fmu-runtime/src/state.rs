@@ -10,10 +10,13 @@
 //! truncated or corrupted buffer are refused with a message saying which.
 
 use crate::lifecycle::Mode;
+use crate::integrate::{parameters_len, Lookahead};
+use crate::rk::{StepRecord, STAGES};
 use crate::values::Values;
 
 pub const MAGIC: &[u8; 8] = b"FMURSST\0";
-pub const FORMAT_VERSION: u32 = 3;
+/// 4: the explicit solver's step reaching past the communication point (`lookahead`).
+pub const FORMAT_VERSION: u32 = 4;
 
 /// The experiment set by fmi2SetupExperiment.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -39,6 +42,9 @@ pub struct Snapshot {
     pub states: Vec<f64>,
     /// The solver's step size at this point (None before the first step).
     pub step_size: Option<f64>,
+    /// The explicit solver's last step when it reaches past this point and the next doStep
+    /// would continue it (the state here was interpolated in it).
+    pub lookahead: Option<Lookahead>,
     /// Input derivatives set for the next step (by known index).
     pub input_slopes: Vec<f64>,
     pub input_curvatures: Vec<f64>,
@@ -140,6 +146,16 @@ impl Snapshot {
         w.f64(self.experiment.start_time);
         w.opt(self.experiment.stop_time);
         w.opt(self.step_size);
+        w.u8(self.lookahead.is_some() as u8);
+        if let Some(la) = &self.lookahead {
+            let r = &la.step;
+            w.f64(r.t_start);
+            w.f64(r.t_end);
+            w.reals(&r.y_start);
+            w.reals(&r.y_end);
+            w.reals(&r.stages);
+            w.reals(&la.parameters);
+        }
         w.reals(&self.values.known);
         w.reals(&self.values.calculated);
         w.reals(&self.values.derivatives);
@@ -190,6 +206,30 @@ impl Snapshot {
         let start_time = r.f64()?;
         let stop_time = r.opt()?;
         let step_size = r.opt()?;
+        let lookahead = match r.u8()? {
+            0 => None,
+            1 => Some(Lookahead {
+                step: StepRecord {
+                    t_start: r.f64()?,
+                    t_end: r.f64()?,
+                    y_start: r.reals("states at the solver step's start", shape.states)?,
+                    y_end: r.reals("states at the solver step's end", shape.states)?,
+                    stages: r.reals("solver stages", STAGES * shape.states)?,
+                },
+                parameters: r.reals("solver parameters", parameters_len(shape.known))?,
+            }),
+            other => return Err(format!("the serialized FMU state has an invalid solver-step flag {other}")),
+        };
+        if let Some(Lookahead { step: la, parameters }) = &lookahead {
+            // The state was interpolated inside the step, which needs a step size to continue.
+            let finite = [la.t_start, la.t_end].iter().chain(&la.y_start).chain(&la.y_end).chain(&la.stages).chain(parameters).all(|v| v.is_finite());
+            if !(finite && la.t_start < la.t_end && la.t_start <= time && time <= la.t_end && step_size.is_some_and(|h| h > 0.0)) {
+                return Err(format!(
+                    "the serialized FMU state's solver step [{}, {}] s does not fit its time {time} s and step size {step_size:?}",
+                    la.t_start, la.t_end
+                ));
+            }
+        }
         let known = r.reals("known reals", shape.known)?;
         let calculated = r.reals("calculated reals", shape.calculated)?;
         let derivatives = r.reals("derivatives", shape.states)?;
@@ -224,6 +264,7 @@ impl Snapshot {
             values: Values { known, calculated, derivatives, integers, booleans },
             states,
             step_size,
+            lookahead,
             input_slopes,
             input_curvatures,
             previous_inputs,
@@ -314,6 +355,16 @@ mod tests {
             },
             states: vec![4.0],
             step_size: Some(1e-5),
+            lookahead: Some(Lookahead {
+                step: StepRecord {
+                    t_start: 0.045,
+                    t_end: 0.0501,
+                    y_start: vec![3.9],
+                    y_end: vec![4.01],
+                    stages: vec![0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1],
+                },
+                parameters: vec![1.0, 2.0, -3.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            }),
             input_slopes: vec![0.0, 0.5, 0.0],
             input_curvatures: vec![0.0, 0.0, -1.0],
             previous_inputs: Some((0.04, vec![1.0, 2.0, -3.0])),
@@ -342,6 +393,21 @@ mod tests {
         for n in 0..bytes.len() {
             assert!(Snapshot::deserialize(&bytes[..n], "{guid}", &shape()).is_err(), "length {n}");
         }
+    }
+
+    #[test]
+    fn a_state_without_a_solver_step_round_trips() {
+        let s = Snapshot { lookahead: None, ..sample() };
+        let bytes = s.serialize("{guid}");
+        assert_eq!(Snapshot::deserialize(&bytes, "{guid}", &shape()).unwrap(), s);
+    }
+
+    #[test]
+    fn a_solver_step_that_does_not_contain_the_time_is_refused() {
+        let mut s = sample();
+        s.lookahead.as_mut().unwrap().step.t_end = 0.049;
+        let err = Snapshot::deserialize(&s.serialize("{guid}"), "{guid}", &shape()).unwrap_err();
+        assert!(err.contains("does not fit"), "{err}");
     }
 
     #[test]

@@ -32,6 +32,9 @@ from fmi_host import Slave
 
 STOP_TIME = 30.0
 OUTPUT_INTERVAL = 1e-3
+# The FMUs' relative tolerance when the master gives none (fmu-runtime's DEFAULT_RELATIVE_TOLERANCE,
+# stated in each FMU's documentation): the runs below give none.
+FMU_RTOL = 1e-8
 
 LEVELS = {1: "a", 2: "b", 3: "c", 4: "d"}
 START_MODES = {1: "direct-on-line", 2: "PI", 3: "inverse"}
@@ -547,12 +550,17 @@ def test_activity_shares_are_consistent(motor_fan_fmu, level, start_mode):
     # reference: spec: activity = integral of |power| (eq. 3.3), so it starts at 0 and never decreases;
     # share_i = 100 activity_i / sum (0 while the sum is 0), so the shares sum to 100 % when the sum > 0.
     # Level b has a rigid shaft (theta stays 0): no stiffness activity.
+    # "Never decreases" holds up to the integration error of the activity, which follows the FMU's
+    # tolerance (FMU_RTOL): near the steady state |power| is a small difference of large torques, so
+    # the speeds' error allowance (rtol of 153 rad/s) times the torque slope enters the integral, and
+    # the solver's steps reach tens of ms (up to 2.5 rtol of the activity between 1 ms samples was
+    # measured). While every doStep was one solver step of at most 1 ms, this was below 1e-9.
     res = base(motor_fan_fmu, level, start_mode)
     A = np.column_stack([np.asarray(res[n]) for n in ACTIVITIES])
     S = np.column_stack([np.asarray(res[n]) for n in SHARES])
     total = A.sum(axis=1)
     assert np.all(A >= 0.0), "negative activity"
-    assert np.all(np.diff(A, axis=0) >= -1e-9 * np.maximum(A[1:], 1.0)), "an activity decreases"
+    assert np.all(np.diff(A, axis=0) >= -10 * FMU_RTOL * np.maximum(A[1:], 1.0)), "an activity decreases"
     assert np.all(A[0] == 0.0), f"activities at t = 0: {A[0]}"
     pos = total > 0.0
     np.testing.assert_allclose(S[pos].sum(axis=1), 100.0, rtol=0, atol=1e-6, err_msg="shares do not sum to 100 %")

@@ -226,14 +226,17 @@ def test_activity_ranking_and_the_reduced_model_reproduce_the_peak():
 
 def test_the_supply_as_an_input_gives_the_same_short_circuit():
     """voltage_from_input: the master sets the profile at each communication point (held over the
-    0.05 s steps of the ramp: the ramp lags by half a step, 0.1 % of U_max over 200 s, and settles)."""
+    0.05 s steps of the ramp: the ramp lags by half a step, 0.1 % of U_max over 200 s, and settles).
+    Settled, the two runs differ by their integration errors, which follow the FMU's relative tolerance
+    (1e-8, fmu-runtime's default: 1.4e-8 measured at 399 s, 9e-10 at 1e-9; below 1e-9 while every
+    doStep was cut into solver steps ending at the communication points): 10 x the tolerance."""
     built_in = run(0, False)
     from_input = run(0, True)
     mag, _, _ = peak(built_in["time"], built_in["shaft_torque"])
     mag_in, _, _ = peak(from_input["time"], from_input["shaft_torque"])
     assert from_input["supply_voltage"][-1] == 0.0
     k = int(np.argmin(np.abs(built_in["time"] - 399.0)))
-    assert from_input["motor_speed"][k] == pytest.approx(built_in["motor_speed"][k], rel=1e-9)
+    assert from_input["motor_speed"][k] == pytest.approx(built_in["motor_speed"][k], rel=10 * 1e-8)
     assert mag_in == pytest.approx(mag, rel=1e-3)
     assert math.isclose(float(np.max(from_input["supply_voltage"])), params().U_max, rel_tol=1e-12)
 

@@ -1,0 +1,319 @@
+//! The explicit Runge-Kutta method of Co-Simulation, stepped by our own loop: Tsitouras 5(4)
+//! with its free 4th-order continuous extension (the coefficients of diffsol's
+//! `Tableau::tsit45`, read from diffsol), an integral step-size controller and diffsol's error
+//! norm. Everything it carries from one step to the next — the last accepted step's ends and
+//! stages (its dense output), and the next step size — is plain data here, so that an FMU state
+//! can save it and a restored instance continue bit for bit from it, also in the middle of a
+//! step that reaches past the communication point (diffsol keeps its dense output private).
+//!
+//! No heap allocation after [`Tsit::new`].
+
+use diffsol::Tableau;
+
+/// Stages of the method. The last one is f at the step's end (first same as last).
+pub const STAGES: usize = 7;
+/// Degree of the continuous extension's polynomials (in theta, without the constant).
+const POLY: usize = 4;
+/// diffsol's defaults: step-size factor within [0.5, 2], safety 0.9, at most 40 rejected
+/// attempts per step, no step shorter than 1e-13 s.
+const MIN_FACTOR: f64 = 0.5;
+const MAX_FACTOR: f64 = 2.0;
+const SAFETY: f64 = 0.9;
+const MAX_REJECTIONS: usize = 40;
+const MIN_STEP: f64 = 1e-13;
+
+/// The last accepted step [t_start, t_end]: enough to interpolate anywhere inside it and to
+/// continue after it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepRecord {
+    pub t_start: f64,
+    pub t_end: f64,
+    pub y_start: Vec<f64>,
+    pub y_end: Vec<f64>,
+    /// The stages' derivatives, stage i at `[i n, (i + 1) n)`; the last is f(t_end, y_end).
+    pub stages: Vec<f64>,
+}
+
+/// The method's coefficients in the natural orientation.
+struct Coefficients {
+    a: [[f64; STAGES]; STAGES],
+    c: [f64; STAGES],
+    d: [f64; STAGES],
+    beta: [[f64; POLY]; STAGES],
+    /// -(integral gain) / (order + 1), the exponent of the squared error norm.
+    exponent: f64,
+}
+
+impl Coefficients {
+    fn tsit45() -> Self {
+        let t = Tableau::<f64>::tsit45();
+        assert_eq!(t.s(), STAGES);
+        let beta_t = t.beta_t().expect("tsit45 has a continuous extension");
+        assert_eq!(beta_t.nrows(), POLY);
+        let mut k = Coefficients { a: [[0.0; STAGES]; STAGES], c: [0.0; STAGES], d: [0.0; STAGES], beta: [[0.0; POLY]; STAGES], exponent: 0.0 };
+        for i in 0..STAGES {
+            for j in 0..STAGES {
+                k.a[i][j] = t.a(i, j);
+            }
+            k.c[i] = t.c().as_slice()[i];
+            k.d[i] = t.d().as_slice()[i];
+            k.beta[i].copy_from_slice(beta_t.as_col_slice(i));
+        }
+        // First same as last: the last stage is evaluated at the step's end, y + h sum b_j k_j.
+        assert_eq!(k.c[STAGES - 1], 1.0);
+        assert!((0..STAGES - 1).all(|j| k.a[STAGES - 1][j] == t.b().as_slice()[j]) && t.b().as_slice()[STAGES - 1] == 0.0);
+        // diffsol's error norm is the mean of squares: its integral controller takes
+        // norm^(-0.5 / (order + 1)).
+        k.exponent = -0.5 / (t.order() + 1) as f64;
+        k
+    }
+}
+
+/// The stepper of one instance (one right-hand side, one size).
+pub struct Tsit {
+    n: usize,
+    k: Coefficients,
+    rtol: f64,
+    atol: Vec<f64>,
+    /// The last accepted step; before the first one after a restart only the current point is
+    /// set: `t_end`, `y_end` and the last stage (f there).
+    pub last: StepRecord,
+    /// Whether `last` is an accepted step (its dense output is valid).
+    pub has_step: bool,
+    /// The size of the next step.
+    pub h: f64,
+    trial: Vec<f64>,
+    y_stage: Vec<f64>,
+}
+
+impl Tsit {
+    pub fn new(n: usize, rtol: f64, atol: &[f64]) -> Self {
+        Tsit {
+            n,
+            k: Coefficients::tsit45(),
+            rtol,
+            atol: atol.to_vec(),
+            last: StepRecord { t_start: 0.0, t_end: 0.0, y_start: vec![0.0; n], y_end: vec![0.0; n], stages: vec![0.0; STAGES * n] },
+            has_step: false,
+            h: 0.0,
+            trial: vec![0.0; STAGES * n],
+            y_stage: vec![0.0; n],
+        }
+    }
+
+    /// Starts afresh at (t, y) with f(t, y) = `dy` and step size `h`: no step to interpolate in.
+    pub fn restart(&mut self, t: f64, y: &[f64], rhs: impl FnOnce(&[f64], f64, &mut [f64]), h: f64) {
+        let n = self.n;
+        self.last.t_start = t;
+        self.last.t_end = t;
+        self.last.y_start.copy_from_slice(y);
+        self.last.y_end.copy_from_slice(y);
+        rhs(y, t, &mut self.last.stages[(STAGES - 1) * n..]);
+        self.has_step = false;
+        self.h = h;
+    }
+
+    /// Continues from a saved step (its end is the current point) with step size `h`.
+    pub fn resume(&mut self, record: &StepRecord, h: f64) {
+        self.last.clone_from(record);
+        self.has_step = true;
+        self.h = h;
+    }
+
+    /// f at the current point (the end of the last step).
+    pub fn current_derivative(&self) -> &[f64] {
+        &self.last.stages[(STAGES - 1) * self.n..]
+    }
+
+    /// Takes one accepted step from the current point, not past `limit` (a step that would end
+    /// within rounding of it, or beyond, ends exactly at it). On error the stepper is unchanged.
+    pub fn step(&mut self, limit: f64, rhs: &mut impl FnMut(&[f64], f64, &mut [f64])) -> Result<(), String> {
+        let n = self.n;
+        let t = self.last.t_end;
+        let remaining = limit - t;
+        if limit.is_finite() && remaining > 0.0 && remaining <= crate::integrate::negligible_interval(limit) {
+            // Within rounding of the limit (where the equations may jump: a time event), no
+            // error estimate can be trusted: one explicit Euler step, exact to O(remaining^2),
+            // every stage but the last (f at the limit) the derivative here. The step size is kept.
+            let (y, trial, y_stage) = (&self.last.y_end, &mut self.trial, &mut self.y_stage);
+            let f0 = &self.last.stages[(STAGES - 1) * n..];
+            for i in 0..STAGES - 1 {
+                trial[i * n..(i + 1) * n].copy_from_slice(f0);
+            }
+            for ((ys, yi), fi) in y_stage.iter_mut().zip(y).zip(f0) {
+                *ys = yi + remaining * fi;
+            }
+            rhs(y_stage, limit, &mut trial[(STAGES - 1) * n..]);
+            self.accept(t, limit);
+            return Ok(());
+        }
+        let mut h = self.h;
+        let mut rejections = 0;
+        loop {
+            let mut t_new = t + h;
+            // A step passing the limit ends at it; so does one ending within rounding of it, on
+            // the first attempt only: stretched again after a rejection, a step could never
+            // shrink below that rounding (the equations may jump at the limit: a time event).
+            let stretch = rejections == 0 && t_new >= limit - crate::integrate::negligible_interval(limit);
+            if limit.is_finite() && (t_new >= limit || stretch) {
+                h = limit - t;
+                t_new = limit;
+            }
+            if !(h > 0.0) {
+                return Err(format!("no step possible at t = {t} s (step size {h} s, limit {limit} s)"));
+            }
+            let (y, trial, y_stage, k) = (&self.last.y_end, &mut self.trial, &mut self.y_stage, &self.k);
+            trial[..n].copy_from_slice(&self.last.stages[(STAGES - 1) * n..]);
+            for i in 1..STAGES {
+                y_stage.copy_from_slice(y);
+                for j in 0..i {
+                    let w = h * k.a[i][j];
+                    if w != 0.0 {
+                        for (ys, kj) in y_stage.iter_mut().zip(&trial[j * n..(j + 1) * n]) {
+                            *ys += w * kj;
+                        }
+                    }
+                }
+                let ti = if k.c[i] == 1.0 { t_new } else { t + k.c[i] * h };
+                rhs(y_stage, ti, &mut trial[i * n..(i + 1) * n]);
+            }
+            // The error estimate h sum d_j k_j, in diffsol's norm: the mean of squares of each
+            // component over rtol |y| + atol at the step's start.
+            let mut norm = 0.0;
+            for m in 0..n {
+                let mut e = 0.0;
+                for j in 0..STAGES {
+                    e += k.d[j] * trial[j * n + m];
+                }
+                let term = (h * e) / (y[m].abs() * self.rtol + self.atol[m]);
+                norm += term * term;
+            }
+            norm /= n as f64;
+            let factor = if norm.is_finite() { (SAFETY * norm.powf(k.exponent)).clamp(MIN_FACTOR, MAX_FACTOR) } else { MIN_FACTOR };
+            if norm < 1.0 {
+                // y_stage holds the last stage's argument: y + h sum b_j k_j, the new state.
+                self.accept(t, t_new);
+                self.h = h * factor;
+                return Ok(());
+            }
+            h *= factor;
+            rejections += 1;
+            if rejections >= MAX_REJECTIONS {
+                return Err(format!("{rejections} rejected step attempts at t = {t} s"));
+            }
+            if h.abs() < MIN_STEP {
+                return Err(format!("the step size fell below {MIN_STEP} s at t = {t} s"));
+            }
+        }
+    }
+
+    /// Makes the attempt in `trial` and `y_stage` (its new state) the last step, [t, t_new].
+    fn accept(&mut self, t: f64, t_new: f64) {
+        std::mem::swap(&mut self.last.y_start, &mut self.last.y_end);
+        self.last.y_end.copy_from_slice(&self.y_stage);
+        std::mem::swap(&mut self.last.stages, &mut self.trial);
+        self.last.t_start = t;
+        self.last.t_end = t_new;
+        self.has_step = true;
+    }
+
+    /// The state at `t` within the last step, from its continuous extension (the step's ends
+    /// exactly at its ends).
+    pub fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let r = &self.last;
+        if t == r.t_end {
+            out.copy_from_slice(&r.y_end);
+            return;
+        }
+        if t == r.t_start {
+            out.copy_from_slice(&r.y_start);
+            return;
+        }
+        let dt = r.t_end - r.t_start;
+        let theta = (t - r.t_start) / dt;
+        out.copy_from_slice(&r.y_start);
+        let n = self.n;
+        for i in 0..STAGES {
+            let mut w = 0.0;
+            let mut power = theta;
+            for b in &self.k.beta[i] {
+                w += b * power;
+                power *= theta;
+            }
+            let w = dt * w;
+            if w != 0.0 {
+                for (o, ki) in out.iter_mut().zip(&r.stages[i * n..(i + 1) * n]) {
+                    *o += w * ki;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn oscillator(y: &[f64], _t: f64, dy: &mut [f64]) {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    }
+
+    #[test]
+    fn steps_and_interpolates_a_harmonic_oscillator() {
+        let rtol = 1e-9;
+        let mut s = Tsit::new(2, rtol, &[1e-12, 1e-12]);
+        s.restart(0.0, &[1.0, 0.0], oscillator, 1e-3);
+        let mut rhs = oscillator;
+        let mut y = [0.0; 2];
+        let mut steps = 0;
+        while s.last.t_end < 10.0 {
+            s.step(10.0, &mut rhs).unwrap();
+            steps += 1;
+            let (a, b) = (s.last.t_start, s.last.t_end);
+            for q in 1..4 {
+                let t = a + (b - a) * q as f64 / 4.0;
+                s.interpolate(t, &mut y);
+                assert!((y[0] - t.cos()).abs() < 1e-7 && (y[1] + t.sin()).abs() < 1e-7, "at {t}: {y:?}");
+            }
+        }
+        assert_eq!(s.last.t_end, 10.0, "the last step ends exactly at the limit");
+        assert!((s.last.y_end[0] - 10f64.cos()).abs() < 1e-7);
+        assert!(steps < 400, "{steps} steps: the step size grows");
+    }
+
+    #[test]
+    fn a_jump_of_the_equations_at_the_limit_is_approached_not_looped_on() {
+        // y' = 0 before 1 s, 1e6 after: the last stages of a step ending at the limit see the
+        // jump; the stepper shrinks its steps towards the limit and reaches it.
+        let mut rhs = |_: &[f64], t: f64, dy: &mut [f64]| dy[0] = if t >= 1.0 { 1e6 } else { 0.0 };
+        let mut s = Tsit::new(1, 1e-8, &[1e-11]);
+        s.restart(0.0, &[0.0], |_: &[f64], _: f64, dy: &mut [f64]| dy[0] = 0.0, 0.1);
+        let mut steps = 0;
+        while s.last.t_end < 1.0 {
+            s.step(1.0, &mut rhs).unwrap();
+            steps += 1;
+            assert!(steps < 1000);
+        }
+        assert_eq!(s.last.t_end, 1.0);
+        assert!(s.last.y_end[0].abs() < 1e-3, "{}", s.last.y_end[0]);
+    }
+
+    #[test]
+    fn a_resumed_record_steps_bit_for_bit_as_the_original() {
+        let mut s = Tsit::new(2, 1e-7, &[1e-10, 1e-10]);
+        s.restart(0.0, &[1.0, 0.0], oscillator, 1e-2);
+        let mut rhs = oscillator;
+        for _ in 0..5 {
+            s.step(f64::INFINITY, &mut rhs).unwrap();
+        }
+        let mut twin = Tsit::new(2, 1e-7, &[1e-10, 1e-10]);
+        twin.resume(&s.last.clone(), s.h);
+        for _ in 0..5 {
+            s.step(f64::INFINITY, &mut rhs).unwrap();
+            twin.step(f64::INFINITY, &mut rhs).unwrap();
+            assert_eq!(s.last, twin.last);
+            assert_eq!(s.h.to_bits(), twin.h.to_bits());
+        }
+    }
+}
