@@ -21,6 +21,7 @@ mod extract;
 mod figures;
 mod interface;
 mod package;
+mod scaffold;
 mod ssp;
 mod systems;
 
