@@ -39,6 +39,8 @@ build-fmus: builds every model crate and packages <out>/<ModelIdentifier>.fmu (F
 then <out>/<System>.ssp for each system declared in models/systems/<System>.toml
 
 Usage: cargo run --release -p build-fmus [-- OPTIONS]
+       cargo run --release -p build-fmus -- new <ModelName> [--path DIR]
+       cargo run --release -p build-fmus -- list
 
 Options:
   --out DIR          write the .fmu files to DIR (default: <workspace>/dist)
@@ -62,12 +64,25 @@ written as an SSP 1.0 archive: SystemStructure.ssd and resources/<ModelIdentifie
 With --only, a system is written only if all of its FMUs were selected.
 ";
 
+/// What to do: build and package (the default), scaffold a new model crate, or list.
+#[derive(Debug, Default, PartialEq, Eq)]
+enum Command {
+    #[default]
+    Build,
+    /// `new <Name>`: a model crate in `--path DIR` (default: the current directory).
+    New(String),
+    /// `list`: the model crates and systems this workspace can build.
+    List,
+}
+
 /// The parsed command line.
 #[derive(Debug, Default, PartialEq, Eq)]
 struct Options {
+    command: Command,
     out: Option<PathBuf>,
     only: Vec<String>,
     workspace: Option<PathBuf>,
+    path: Option<PathBuf>,
     help: bool,
 }
 
@@ -92,6 +107,12 @@ fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Options, Strin
                 .ok_or_else(|| format!("{name} needs a value"))
         };
         match flag.as_str() {
+            "new" if opts.command == Command::Build => {
+                let name = args.next().and_then(|n| n.into_string().ok()).filter(|n| !n.is_empty());
+                opts.command = Command::New(name.ok_or("new needs a model name, e.g. `new ElevatorDrive`")?);
+            }
+            "list" if opts.command == Command::Build => opts.command = Command::List,
+            "--path" => opts.path = Some(value("--path")?.into()),
             "-h" | "--help" => opts.help = true,
             "--out" => opts.out = Some(value("--out")?.into()),
             "--workspace" => opts.workspace = Some(value("--workspace")?.into()),
@@ -397,7 +418,12 @@ fn main() -> ExitCode {
         print!("{USAGE}");
         return ExitCode::SUCCESS;
     }
-    match run(&opts) {
+    let result = match &opts.command {
+        Command::Build => run(&opts),
+        Command::New(name) => new_model(name, &opts),
+        Command::List => list(&opts),
+    };
+    match result {
         Ok(0) => ExitCode::SUCCESS,
         Ok(_) => ExitCode::FAILURE,
         Err(e) => {
@@ -405,6 +431,35 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// The repository this tool was built from (where `fmu-runtime` and `components` live).
+fn repository() -> PathBuf {
+    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = here.parent().unwrap_or(here);
+    fs::canonicalize(root).unwrap_or_else(|_| root.to_path_buf())
+}
+
+/// `new <Name> [--path DIR]`: scaffolds a model crate.
+fn new_model(name: &str, opts: &Options) -> Result<usize, String> {
+    let parent = opts.path.clone().unwrap_or_else(|| PathBuf::from("."));
+    let dir = scaffold::create(name, &parent, &repository())?;
+    println!("created {} (model {name}): edit src/lib.rs, then `build-fmus build {}`", shown(&dir), shown(&dir));
+    Ok(0)
+}
+
+/// `list`: every model crate of the workspace, and the systems.
+fn list(opts: &Options) -> Result<usize, String> {
+    let root = match &opts.workspace {
+        Some(dir) => dir.clone(),
+        None => discover::workspace_root(&cargo::cargo_program())?,
+    };
+    let models = discover::discover_models(&root)?;
+    println!("model crates in {} ({}):", shown(&root), models.len());
+    for m in &models {
+        println!("  {:<24} {}", m.package, shown(&m.dir));
+    }
+    Ok(0)
 }
 
 /// Helpers shared by the unit tests.

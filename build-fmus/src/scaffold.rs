@@ -149,6 +149,12 @@ pub fn create(name: &str, parent: &Path, repository: &Path) -> Result<PathBuf, S
         }
         fs::write(&path, text).map_err(|e| format!("could not write {}: {e}", path.display()))?;
     }
+    // The repository's lock file pins the same dependency versions, so a build sharing its
+    // target directory reuses the compiled dependencies.
+    let lock = repository.join("Cargo.lock");
+    if lock.is_file() {
+        fs::copy(&lock, dir.join("Cargo.lock")).map_err(|e| format!("could not copy {}: {e}", lock.display()))?;
+    }
     Ok(dir)
 }
 
