@@ -506,7 +506,9 @@ fn write_units(w: &mut Xml, table: &VariableTable) {
     }
     open(w, "UnitDefinitions", &[]);
     for name in used {
-        let b = units::lookup(name).expect("checked at declaration");
+        // An unknown unit is one of the model's problems (reported with its file and line, and
+        // the model is not exported): the description is still written, without it.
+        let Some(b) = units::lookup(name) else { continue };
         open(w, "Unit", &[("name", name.to_string())]);
         let mut attrs = Vec::new();
         for (k, e) in [("kg", b.kg), ("m", b.m), ("s", b.s), ("A", b.a), ("K", b.k), ("mol", b.mol), ("cd", b.cd), ("rad", b.rad)] {
@@ -659,6 +661,15 @@ mod tests {
         // Every model of the runtime's own tests is clean.
         assert!(ModelDescription::of::<Decay>().problems.is_empty());
         assert!(ModelDescription::of::<crate::test_model::Relax>().problems.is_empty());
+    }
+
+    #[test]
+    fn unknown_units_are_problems_not_a_panic() {
+        let d = ModelDescription::of::<crate::test_model::Furlong>();
+        assert_eq!(d.problems.len(), 2, "{:#?}", d.problems);
+        assert!(d.problems[0].contains("'length' has the unit 'furlong'"), "{}", d.problems[0]);
+        assert!(d.problems[1].contains("'count' has no unit"), "{}", d.problems[1]);
+        assert!(!d.xml.contains(r#"<Unit name="furlong">"#));
     }
 
     #[test]

@@ -261,3 +261,27 @@ impl Model for Frozen {
         out[self.y] = k[self.x];
     }
 }
+
+/// A unit the runtime does not know, and none at all: problems, not a panic while the
+/// description is written.
+pub struct Furlong {
+    x: State,
+    y: Output,
+}
+
+impl Model for Furlong {
+    fn info() -> ModelInfo {
+        ModelInfo { name: "Furlong", ..Decay::info() }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        d.parameter("length", 1.0, "furlong").describe("an old unit");
+        d.parameter("count", 1.0, "").describe("no unit");
+        Furlong { x: d.state("x", 1.0, "m").describe("state"), y: d.output("y", "m").describe("the state") }
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        der[self.x] = -k[self.x];
+    }
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        out[self.y] = k[self.x];
+    }
+}
