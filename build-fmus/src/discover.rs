@@ -102,6 +102,44 @@ pub fn discover_models(root: &Path) -> Result<Vec<ModelCrate>, String> {
     Ok(models)
 }
 
+/// The model crate in `dir`, wherever it lives (inside this workspace or outside it), with
+/// the cargo workspace it belongs to: `dir` itself when its manifest has a `[workspace]`
+/// table (a crate made by `build-fmus new`), else the one `cargo locate-project` finds.
+/// An error names the directory and the fix.
+pub fn model_crate_at(dir: &Path, cargo: &std::ffi::OsStr) -> Result<(ModelCrate, PathBuf), String> {
+    let manifest = dir.join("Cargo.toml");
+    if !manifest.is_file() {
+        return Err(format!(
+            "{} has no Cargo.toml: pass a model crate's directory (made by `build-fmus new <Name>`) or a model's name",
+            dir.display()
+        ));
+    }
+    let dir = fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+    let model = read_model_crate(&dir)?.ok_or_else(|| {
+        format!(
+            "{} is not a model crate: its [lib] needs crate-type = [\"cdylib\", \"rlib\"] and src/lib.rs must end with fmu_runtime::export_fmu!(<Model>)",
+            manifest.display()
+        )
+    })?;
+    if is_workspace_root(&dir) {
+        return Ok((model, dir));
+    }
+    let out = Command::new(cargo)
+        .current_dir(&dir)
+        .args(["locate-project", "--workspace", "--message-format", "plain"])
+        .output()
+        .map_err(|e| format!("could not run `cargo locate-project`: {e}"))?;
+    let found = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
+    match found.parent() {
+        Some(root) if out.status.success() => Ok((model, root.to_path_buf())),
+        _ => Err(format!(
+            "could not find the cargo workspace of {}: {}",
+            dir.display(),
+            String::from_utf8_lossy(&out.stderr).trim()
+        )),
+    }
+}
+
 /// Reads one member's manifest; `Some` if it builds a cdylib.
 fn read_model_crate(dir: &Path) -> Result<Option<ModelCrate>, String> {
     let manifest = dir.join("Cargo.toml");

@@ -21,6 +21,7 @@ mod extract;
 mod figures;
 mod interface;
 mod package;
+mod scaffold;
 mod ssp;
 mod systems;
 
@@ -34,26 +35,34 @@ use std::time::Instant;
 use discover::ModelCrate;
 
 const USAGE: &str = "\
-build-fmus: builds every model crate and packages <out>/<ModelIdentifier>.fmu (FMI 2.0 CS),
+build-fmus: builds model crates and packages <out>/<ModelIdentifier>.fmu (FMI 2.0 CS and ME),
 then <out>/<System>.ssp for each system declared in models/systems/<System>.toml
 
-Usage: cargo run --release -p build-fmus [-- OPTIONS]
+Usage: cargo run --release -p build-fmus [-- OPTIONS]          every model of the workspace
+       build-fmus build <crate directory | model name> [OPTIONS]  one model, wherever it lives
+       build-fmus new <ModelName> [--path DIR]                   a new model crate to edit
+       build-fmus list                                           the workspace's model crates
 
 Options:
-  --out DIR          write the .fmu files to DIR (default: <workspace>/dist)
+  --out DIR          write the .fmu files to DIR (default: <workspace>/dist, or <crate>/dist
+                     for `build <crate directory>` outside the workspace)
   --only NAME        package only this model: its package name (rlc-circuit) or its
                      modelIdentifier (RlcCircuit); repeat to select several
   --workspace DIR    the workspace root (default: the workspace this tool belongs to,
                      else the one around the current directory)
+  --path DIR         with `new`: where the crate's directory is made (default: .)
   -h, --help         print this help and exit
 
-Model crates are the workspace members under models/ whose [lib] crate-type has
-\"cdylib\". They are built by one `cargo build --release --lib -p ...` ($CARGO and
-$CARGO_TARGET_DIR are honoured); each library is then loaded to read its
-modelDescription.xml and documentation, and zipped with them into the FMU:
+A model crate is a crate whose [lib] crate-type has \"cdylib\" and whose src/lib.rs ends with
+fmu_runtime::export_fmu!(<Model>): the workspace members under models/, or any crate made by
+`build-fmus new` (standalone: its own [workspace], path dependencies on fmu-runtime and
+components). Every model takes the same steps: `cargo build --release --lib` ($CARGO and
+$CARGO_TARGET_DIR are honoured; a standalone crate builds into its own target/ unless
+CARGO_TARGET_DIR shares one, which reuses the compiled dependencies), then its library is
+loaded to read its modelDescription.xml, documentation and the problems its declarations have
+(a model with problems is refused, each named with its file, line and fix), and zipped:
   modelDescription.xml, binaries/linux64/<ModelIdentifier>.so, documentation/index.html
-and the model's figures docs/figures/<ModelIdentifier>_*.png (examples/make_figures.py)
-as documentation/<file>.png, shown in index.html.
+with the figures <project>/docs/figures/<ModelIdentifier>_*.png as documentation/<file>.png.
 
 A system (models/systems/<System>.toml: components, connections \"a.y -> b.u\" from an
 output to an input, optional parameter values) is checked against the FMUs' variables and
@@ -61,12 +70,27 @@ written as an SSP 1.0 archive: SystemStructure.ssd and resources/<ModelIdentifie
 With --only, a system is written only if all of its FMUs were selected.
 ";
 
+/// What to do: build and package (the default), scaffold a new model crate, or list.
+#[derive(Debug, Default, PartialEq, Eq)]
+enum Command {
+    /// Every model of the workspace (no argument), or `build <crate directory or name>`.
+    #[default]
+    BuildAll,
+    Build(String),
+    /// `new <Name>`: a model crate in `--path DIR` (default: the current directory).
+    New(String),
+    /// `list`: the model crates and systems this workspace can build.
+    List,
+}
+
 /// The parsed command line.
 #[derive(Debug, Default, PartialEq, Eq)]
 struct Options {
+    command: Command,
     out: Option<PathBuf>,
     only: Vec<String>,
     workspace: Option<PathBuf>,
+    path: Option<PathBuf>,
     help: bool,
 }
 
@@ -91,6 +115,16 @@ fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Options, Strin
                 .ok_or_else(|| format!("{name} needs a value"))
         };
         match flag.as_str() {
+            "build" if opts.command == Command::BuildAll => {
+                let target = args.next().and_then(|n| n.into_string().ok()).filter(|n| !n.is_empty() && !n.starts_with("--"));
+                opts.command = Command::Build(target.ok_or("build needs a model crate's directory or a model's name, e.g. `build ./elevator-drive` or `build MotorFan`")?);
+            }
+            "new" if opts.command == Command::BuildAll => {
+                let name = args.next().and_then(|n| n.into_string().ok()).filter(|n| !n.is_empty());
+                opts.command = Command::New(name.ok_or("new needs a model name, e.g. `new ElevatorDrive`")?);
+            }
+            "list" if opts.command == Command::BuildAll => opts.command = Command::List,
+            "--path" => opts.path = Some(value("--path")?.into()),
             "-h" | "--help" => opts.help = true,
             "--out" => opts.out = Some(value("--out")?.into()),
             "--workspace" => opts.workspace = Some(value("--workspace")?.into()),
@@ -173,11 +207,23 @@ fn shown(path: &Path) -> String {
     }
 }
 
-/// Builds, extracts and packages; returns the error that stops the run, or the number of
-/// models that failed.
-fn run(opts: &Options) -> Result<usize, String> {
-    let started = Instant::now();
-    let cargo_program = cargo::cargo_program();
+/// What one run builds from: the workspace's model crates, or one model crate anywhere.
+/// Both go through the same steps (cargo build, extract, package): a chapter model and a
+/// user's model take one path.
+struct Project {
+    /// Where cargo runs (its manifest is `root/Cargo.toml`); `docs/figures` and the default
+    /// `dist/` live here too.
+    root: PathBuf,
+    /// Where cargo puts the libraries.
+    target_dir: PathBuf,
+    /// The model crates `--only` chooses from.
+    models: Vec<ModelCrate>,
+    /// Whether `models/systems/*.toml` are packaged (the workspace only).
+    systems: bool,
+}
+
+/// The workspace: `--workspace DIR`, else the one this tool belongs to.
+fn workspace_project(opts: &Options, cargo_program: &std::ffi::OsStr) -> Result<Project, String> {
     let root = match &opts.workspace {
         Some(dir) => {
             if !discover::is_workspace_root(dir) {
@@ -188,7 +234,7 @@ fn run(opts: &Options) -> Result<usize, String> {
             }
             fs::canonicalize(dir).unwrap_or_else(|_| dir.clone())
         }
-        None => discover::workspace_root(&cargo_program)?,
+        None => discover::workspace_root(cargo_program)?,
     };
     let models = discover::discover_models(&root)?;
     if models.is_empty() {
@@ -198,9 +244,60 @@ fn run(opts: &Options) -> Result<usize, String> {
             root.display()
         ));
     }
-    let selection = select(&models, &opts.only);
     let target_dir = cargo::target_dir(&root);
-    cargo::build(&cargo_program, &root, &target_dir, &selection.build)?;
+    Ok(Project { root, target_dir, models, systems: true })
+}
+
+/// `build <target>`: a directory is a model crate wherever it lives (a member of the workspace
+/// is built as one); anything else is a model's name in the workspace, as with `--only`.
+/// Returns the project and the names to select in it.
+fn target_project(target: &str, opts: &Options, cargo_program: &std::ffi::OsStr) -> Result<(Project, Vec<String>), String> {
+    let dir = Path::new(target);
+    let looks_like_path = dir.is_dir() || target.contains('/') || target.starts_with('.');
+    if !looks_like_path {
+        let mut only = opts.only.clone();
+        only.push(target.to_owned());
+        return Ok((workspace_project(opts, cargo_program)?, only));
+    }
+    let (model, cargo_root) = discover::model_crate_at(dir, cargo_program)?;
+    if let Ok(ws) = workspace_project(opts, cargo_program) {
+        if ws.models.iter().any(|m| m.dir == model.dir) {
+            return Ok((ws, vec![model.package]));
+        }
+        let target_dir = cargo::target_dir(&cargo_root);
+        if let Some(twin) = ws.models.iter().find(|m| m.lib_name == model.lib_name && target_dir == ws.target_dir) {
+            return Err(format!(
+                "{} builds lib{}.so into {}, where the workspace's {} puts its own: rename the crate, \
+                 or build it with another CARGO_TARGET_DIR",
+                model.dir.display(),
+                model.lib_name,
+                target_dir.display(),
+                twin.package
+            ));
+        }
+    }
+    let only = vec![model.package.clone()];
+    let project = Project {
+        root: model.dir.clone(),
+        target_dir: cargo::target_dir(&cargo_root),
+        models: vec![model],
+        systems: false,
+    };
+    Ok((project, only))
+}
+
+/// Builds, extracts and packages; returns the error that stops the run, or the number of
+/// models that failed.
+fn run(opts: &Options) -> Result<usize, String> {
+    let started = Instant::now();
+    let cargo_program = cargo::cargo_program();
+    let (project, only) = match &opts.command {
+        Command::Build(target) => target_project(target, opts, &cargo_program)?,
+        _ => (workspace_project(opts, &cargo_program)?, opts.only.clone()),
+    };
+    let Project { root, target_dir, models, systems } = &project;
+    let selection = select(models, &only);
+    cargo::build(&cargo_program, root, target_dir, &selection.build)?;
 
     // Created only when the first FMU is ready, so a run that fails leaves nothing behind.
     let out_dir = opts.out.clone().unwrap_or_else(|| root.join("dist"));
@@ -211,7 +308,7 @@ fn run(opts: &Options) -> Result<usize, String> {
     let mut identifiers: BTreeMap<String, String> = BTreeMap::new(); // identifier -> package
     let mut descriptions: BTreeMap<String, String> = BTreeMap::new(); // packaged: identifier -> XML
     for model in &selection.build {
-        let lib_path = cargo::library_path(&target_dir, &model.lib_name);
+        let lib_path = cargo::library_path(target_dir, &model.lib_name);
         let info = match extract::extract(&lib_path, &model.package) {
             Ok(info) => info,
             Err(e) => {
@@ -238,7 +335,7 @@ fn run(opts: &Options) -> Result<usize, String> {
             failed += 1;
             continue;
         }
-        match package_one(&root, &out_dir, &lib_path, &info) {
+        match package_one(root, &out_dir, &lib_path, &info) {
             Ok((path, size)) => {
                 written += 1;
                 descriptions.insert(info.identifier.clone(), info.description.clone());
@@ -265,8 +362,11 @@ fn run(opts: &Options) -> Result<usize, String> {
         );
         failed += unmatched.len();
     }
-    let (systems_written, systems_failed) =
-        package_systems(&root, &out_dir, &descriptions, !opts.only.is_empty());
+    let (systems_written, systems_failed) = if *systems {
+        package_systems(root, &out_dir, &descriptions, !only.is_empty())
+    } else {
+        (0, 0)
+    };
     failed += systems_failed;
     println!(
         "Packaged {written} FMU{}{} into {} in {:.1} s{}",
@@ -396,7 +496,12 @@ fn main() -> ExitCode {
         print!("{USAGE}");
         return ExitCode::SUCCESS;
     }
-    match run(&opts) {
+    let result = match &opts.command {
+        Command::BuildAll | Command::Build(_) => run(&opts),
+        Command::New(name) => new_model(name, &opts),
+        Command::List => list(&opts),
+    };
+    match result {
         Ok(0) => ExitCode::SUCCESS,
         Ok(_) => ExitCode::FAILURE,
         Err(e) => {
@@ -404,6 +509,43 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// The repository this tool was built from (where `fmu-runtime` and `components` live).
+fn repository() -> PathBuf {
+    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = here.parent().unwrap_or(here);
+    fs::canonicalize(root).unwrap_or_else(|_| root.to_path_buf())
+}
+
+/// `new <Name> [--path DIR]`: scaffolds a model crate.
+fn new_model(name: &str, opts: &Options) -> Result<usize, String> {
+    let parent = opts.path.clone().unwrap_or_else(|| PathBuf::from("."));
+    let dir = scaffold::create(name, &parent, &repository())?;
+    println!("created {} (model {name}): edit src/lib.rs, then `build-fmus build {}`", shown(&dir), shown(&dir));
+    Ok(0)
+}
+
+/// `list`: every model crate of the workspace, and the systems.
+fn list(opts: &Options) -> Result<usize, String> {
+    let root = match &opts.workspace {
+        Some(dir) => dir.clone(),
+        None => discover::workspace_root(&cargo::cargo_program())?,
+    };
+    let models = discover::discover_models(&root)?;
+    println!("model crates in {} ({}):", shown(&root), models.len());
+    for m in &models {
+        println!("  {:<24} {}", m.package, shown(&m.dir));
+    }
+    let systems = systems::discover(&root)?;
+    if !systems.is_empty() {
+        println!("systems in {} ({}):", shown(&root.join("models/systems")), systems.len());
+        for (_, decl) in &systems {
+            println!("  {:<24} {}", decl.name, decl.fmus().join(", "));
+        }
+    }
+    println!("and any model crate made by `build-fmus new`, wherever it lives: `build-fmus build <its directory>`");
+    Ok(0)
 }
 
 /// Helpers shared by the unit tests.
@@ -481,6 +623,21 @@ mod tests {
             .unwrap_err()
             .contains("unknown argument `--bogus`"));
         assert!(args(&["stray"]).unwrap_err().contains("unknown argument"));
+    }
+
+    #[test]
+    fn parses_the_subcommands() {
+        assert_eq!(args(&[]).unwrap().command, Command::BuildAll);
+        assert_eq!(args(&["build", "./elevator-drive"]).unwrap().command, Command::Build("./elevator-drive".into()));
+        let o = args(&["build", "MotorFan", "--out", "/tmp/x"]).unwrap();
+        assert_eq!((o.command, o.out), (Command::Build("MotorFan".into()), Some(PathBuf::from("/tmp/x"))));
+        assert!(args(&["build"]).unwrap_err().contains("build needs a model crate's directory or a model's name"));
+        assert!(args(&["build", "--out", "x"]).unwrap_err().contains("build needs"));
+        let o = args(&["new", "ElevatorDrive", "--path", "/tmp"]).unwrap();
+        assert_eq!((o.command, o.path), (Command::New("ElevatorDrive".into()), Some(PathBuf::from("/tmp"))));
+        assert!(args(&["new"]).unwrap_err().contains("new needs a model name"));
+        assert_eq!(args(&["list"]).unwrap().command, Command::List);
+        assert!(args(&["list", "new", "X"]).unwrap_err().contains("unknown argument `new`"));
     }
 
     #[test]

@@ -81,6 +81,61 @@ fn unwritten<M: Model>(model: &M, table: &VariableTable, t: f64) -> Vec<String> 
     problems
 }
 
+/// The outputs that nothing moves while the model runs: no input, no state (their ModelStructure
+/// dependencies are empty), not time and not a discrete mode, in any configuration of the
+/// structural parameters. Such an output is a constant a master would read as a signal: usually
+/// an equation that forgot its state or input.
+fn constant_outputs<M: Model>(model: &M, table: &VariableTable, structure: &Structure, t: f64) -> Vec<String> {
+    let mut problems = Vec::new();
+    let later = t + 0.613 * (t.abs() + 1.0);
+    for (index, deps) in &structure.outputs {
+        if !deps.as_ref().is_some_and(|d| d.is_empty()) {
+            continue;
+        }
+        let Some(pos) = table.variables.iter().position(|v| index_of(v) == *index) else { continue };
+        let var = &table.variables[pos];
+        let mut moves = false;
+        'configs: for config in configurations(table) {
+            for (values, states) in probe_points(table, &config) {
+                let Some(p0) = evaluate(model, table, t, &values, &states, false) else { return problems };
+                let value = |p: &Point| unknown_value(table, var, p);
+                // Time, then each integer and boolean slot (modes included), moved in turn.
+                let mut trials = vec![evaluate(model, table, later, &values, &states, false)];
+                for i in 0..values.integers.len() {
+                    let mut v = values.clone();
+                    v.integers[i] = if v.integers[i] < i32::MAX { v.integers[i] + 1 } else { v.integers[i] - 1 };
+                    trials.push(evaluate(model, table, t, &v, &states, false));
+                }
+                for i in 0..values.booleans.len() {
+                    let mut v = values.clone();
+                    v.booleans[i] = !v.booleans[i];
+                    trials.push(evaluate(model, table, t, &v, &states, false));
+                }
+                if trials.iter().flatten().any(|p1| matches!((value(&p0), value(p1)), (Some(a), Some(b)) if moved(a, b))) {
+                    moves = true;
+                    break 'configs;
+                }
+            }
+        }
+        if !moves {
+            let at = table.declared_at[pos];
+            problems.push(format!(
+                "{}:{}: output '{}' depends on nothing: no input, state, time or mode moves it, it is a constant. Fix: compute it from the states or inputs it stands for in outputs(), or declare it as a parameter",
+                at.file(),
+                at.line(),
+                var.name
+            ));
+        }
+    }
+    problems
+}
+
+/// Whether two problems name the same variable (the first quoted name in each).
+fn same_variable(a: &str, b: &str) -> bool {
+    let name = |s: &str| s.split('\'').nth(1).map(str::to_owned);
+    name(a).is_some() && name(a) == name(b)
+}
+
 /// Dependencies of one unknown: the 1-based indices of the knowns it depends on, or `None`
 /// for "every known".
 pub type Dependencies = Option<BTreeSet<usize>>;
@@ -154,6 +209,17 @@ impl Known<'_> {
         }
     }
 
+    /// Moves a real known (an input, a parameter or a state) to its value in a far point;
+    /// false for integers and booleans, which `perturb` already moves by a whole step.
+    fn jump(&self, values: &mut Values, states: &mut [f64], far_values: &Values, far_states: &[f64]) -> bool {
+        match *self {
+            Known::Real(_, i) => values.known[i] = far_values.known[i],
+            Known::State(_, s) => states[s] = far_states[s],
+            Known::Integer(..) | Known::Boolean(..) => return false,
+        }
+        true
+    }
+
     fn perturb(&self, values: &mut Values, states: &mut [f64]) {
         let step = |x: f64| x + 1e-3 * (x.abs() + 1.0);
         match *self {
@@ -185,6 +251,32 @@ fn probe_points(table: &VariableTable, base: &Values) -> Vec<(Values, Vec<f64>)>
             for (j, var) in table.variables.iter().filter(|v| v.causality == Causality::Input).enumerate() {
                 if let Slot::Known(i) = var.slot {
                     v.known[i] += offset + spread * j as f64;
+                }
+            }
+            (v, states)
+        })
+        .collect()
+}
+
+/// Operating points far from the start values (states and inputs moved by 1.5 and 2.5 times
+/// their magnitude plus nominal, down and up): a threshold, a saturation or a latch in the
+/// equations is flat near the start and moves only there. Equations may fail at such a point
+/// (a square root of a negative value): the point is then skipped, not held against the model.
+fn far_points(table: &VariableTable, base: &Values) -> Vec<(Values, Vec<f64>)> {
+    let nominals = table.state_nominals();
+    [-1.5, 2.5]
+        .iter()
+        .map(|c| {
+            let mut v = base.clone();
+            let mut states = Vec::with_capacity(table.n_states);
+            for (s, k) in table.state_known_index.iter().enumerate() {
+                let x0 = v.known[*k];
+                states.push(x0 + c * (x0.abs() + nominals[s]) * (1.0 + 0.1 * s as f64));
+            }
+            for (j, var) in table.variables.iter().filter(|v| v.causality == Causality::Input).enumerate() {
+                if let Slot::Known(i) = var.slot {
+                    let u0 = v.known[i];
+                    v.known[i] = u0 + c * (u0.abs() + 1.0) * (1.0 + 0.1 * j as f64);
                 }
             }
             (v, states)
@@ -226,9 +318,20 @@ fn configurations(table: &VariableTable) -> Vec<Values> {
 fn dependencies<M: Model>(model: &M, table: &VariableTable, unknowns: &[&Variable], knowns: &[Known], t: f64, initial: bool) -> Vec<Dependencies> {
     let mut deps: Vec<Dependencies> = vec![Some(BTreeSet::new()); unknowns.len()];
     for config in configurations(table) {
+        let far = far_points(table, &config);
         for (values, states) in probe_points(table, &config) {
             let Some(p0) = evaluate(model, table, t, &values, &states, initial) else {
                 return vec![None; unknowns.len()];
+            };
+            let mut record = |known: &Known, p1: &Point| {
+                for (u, dep) in unknowns.iter().zip(deps.iter_mut()) {
+                    let (a, b) = (unknown_value(table, u, &p0), unknown_value(table, u, p1));
+                    if let (Some(a), Some(b), Some(set)) = (a, b, dep.as_mut()) {
+                        if moved(a, b) {
+                            set.insert(index_of(known.variable()));
+                        }
+                    }
+                }
             };
             for known in knowns {
                 let (mut v, mut s) = (values.clone(), states.clone());
@@ -236,11 +339,14 @@ fn dependencies<M: Model>(model: &M, table: &VariableTable, unknowns: &[&Variabl
                 let Some(p1) = evaluate(model, table, t, &v, &s, initial) else {
                     return vec![None; unknowns.len()];
                 };
-                for (u, dep) in unknowns.iter().zip(deps.iter_mut()) {
-                    let (a, b) = (unknown_value(table, u, &p0), unknown_value(table, u, &p1));
-                    if let (Some(a), Some(b), Some(set)) = (a, b, dep.as_mut()) {
-                        if moved(a, b) {
-                            set.insert(index_of(known.variable()));
+                record(known, &p1);
+                // A threshold in the equations is flat under a small perturbation: also jump
+                // this one known to each far point (where the equations may fail: skipped).
+                for (far_values, far_states) in &far {
+                    let (mut v, mut s) = (values.clone(), states.clone());
+                    if known.jump(&mut v, &mut s, far_values, far_states) && (v.known != values.known || s != states) {
+                        if let Some(p1) = evaluate(model, table, t, &v, &s, initial) {
+                            record(known, &p1);
                         }
                     }
                 }
@@ -400,7 +506,9 @@ fn write_units(w: &mut Xml, table: &VariableTable) {
     }
     open(w, "UnitDefinitions", &[]);
     for name in used {
-        let b = units::lookup(name).expect("checked at declaration");
+        // An unknown unit is one of the model's problems (reported with its file and line, and
+        // the model is not exported): the description is still written, without it.
+        let Some(b) = units::lookup(name) else { continue };
         open(w, "Unit", &[("name", name.to_string())]);
         let mut attrs = Vec::new();
         for (k, e) in [("kg", b.kg), ("m", b.m), ("s", b.s), ("A", b.a), ("K", b.k), ("mol", b.mol), ("cd", b.cd), ("rad", b.rad)] {
@@ -516,6 +624,10 @@ impl ModelDescription {
         let structure = structure(&model, &table, probe_time);
         let mut problems = table.problems.clone();
         problems.extend(unwritten(&model, &table, probe_time));
+        let constant = constant_outputs(&model, &table, &structure, probe_time);
+        // An output never written is constant too: it is reported once, as never written.
+        let fresh: Vec<String> = constant.into_iter().filter(|c| !problems.iter().any(|p| same_variable(p, c))).collect();
+        problems.extend(fresh);
         let draft = write_xml::<M>(&table, &structure);
         let guid = guid_of(&draft);
         let xml = draft.replacen(GUID_PLACEHOLDER, &guid, 1);
@@ -549,6 +661,26 @@ mod tests {
         // Every model of the runtime's own tests is clean.
         assert!(ModelDescription::of::<Decay>().problems.is_empty());
         assert!(ModelDescription::of::<crate::test_model::Relax>().problems.is_empty());
+    }
+
+    #[test]
+    fn unknown_units_are_problems_not_a_panic() {
+        let d = ModelDescription::of::<crate::test_model::Furlong>();
+        assert_eq!(d.problems.len(), 2, "{:#?}", d.problems);
+        assert!(d.problems[0].contains("'length' has the unit 'furlong'"), "{}", d.problems[0]);
+        assert!(d.problems[1].contains("'count' has no unit"), "{}", d.problems[1]);
+        assert!(!d.xml.contains(r#"<Unit name="furlong">"#));
+    }
+
+    #[test]
+    fn an_output_nothing_moves_is_a_problem_naming_it() {
+        let d = ModelDescription::of::<crate::test_model::Frozen>();
+        assert_eq!(d.problems.len(), 1, "{:#?}", d.problems);
+        let p = &d.problems[0];
+        assert!(p.starts_with("fmu-runtime/src/test_model.rs:"), "{p}");
+        assert!(p.contains("output 'stuck' depends on nothing") && p.contains("Fix:"), "{p}");
+        // An output only time moves ('clock') is a signal: FMI lists it with no dependencies.
+        assert!(d.xml.contains(r#"name="clock""#));
     }
 
     #[test]

@@ -228,3 +228,60 @@ impl Model for Careless {
         let _ = self.forgotten;
     }
 }
+
+/// An output that nothing moves (a parameter copied out), beside outputs that time or a
+/// state move: only the first is a problem.
+pub struct Frozen {
+    gain: Parameter,
+    x: State,
+    stuck: Output,
+    clock: Output,
+    y: Output,
+}
+
+impl Model for Frozen {
+    fn info() -> ModelInfo {
+        ModelInfo { name: "Frozen", ..Decay::info() }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        Frozen {
+            gain: d.parameter("gain", 2.0, "1").describe("a gain"),
+            x: d.state("x", 1.0, "1").describe("state"),
+            stuck: d.output("stuck", "1").describe("twice the gain, whatever happens"),
+            clock: d.output("clock", "s").describe("the time"),
+            y: d.output("y", "1").describe("the state"),
+        }
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        der[self.x] = -k[self.x];
+    }
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        out[self.stuck] = 2.0 * k[self.gain];
+        out[self.clock] = k.time();
+        out[self.y] = k[self.x];
+    }
+}
+
+/// A unit the runtime does not know, and none at all: problems, not a panic while the
+/// description is written.
+pub struct Furlong {
+    x: State,
+    y: Output,
+}
+
+impl Model for Furlong {
+    fn info() -> ModelInfo {
+        ModelInfo { name: "Furlong", ..Decay::info() }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        d.parameter("length", 1.0, "furlong").describe("an old unit");
+        d.parameter("count", 1.0, "").describe("no unit");
+        Furlong { x: d.state("x", 1.0, "m").describe("state"), y: d.output("y", "m").describe("the state") }
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        der[self.x] = -k[self.x];
+    }
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        out[self.y] = k[self.x];
+    }
+}

@@ -7,9 +7,6 @@ checker loads the binary (TOOLS.md).
 
 from __future__ import annotations
 
-import re
-import subprocess
-import sys
 import zipfile
 from ctypes import byref
 from pathlib import Path
@@ -19,24 +16,8 @@ from fmpy import read_model_description
 from fmpy.fmi2 import fmi2CoSimulation
 from fmpy.validation import validate_fmu
 
-from conftest import DIST_DIR, EXPECTED_FMUS
+from conftest import DIST_DIR, EXPECTED_FMUS, assert_fmutool_clean
 from fmi_host import Slave
-
-FMUTOOL = Path(sys.executable).with_name("fmutool")
-
-# `fmutool -input X.fmu -check` (fmu_manipulation_toolbox 2.0) logs one record per line to stdout as
-#     "<LEVEL padded to 8> | <message>"
-# e.g.
-#     INFO     | This FMU seems to be compliant with FMI-2.0.
-#     INFO     | No semantic error against the FMI-2 standard.
-#     ERROR    | Name 'R_series' is used by several variables (FMI-2 §2.2.7).
-#     ERROR    | -check: 6 error(s) found.
-# (colour codes only on a terminal; stripped below anyway). A finding is any WARNING, ERROR or
-# CRITICAL record; exit status 7 means the check failed. Only the FMU's own records can appear here:
-# the container's false "[ERROR] Solver configure" (TOOLS.md) is an fmucontainer message, not ours.
-FMUTOOL_FINDING = re.compile(r"^(WARNING|ERROR|CRITICAL)\s*\|")
-ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
-
 
 def test_expected_fmus_are_built():
     missing = [name for name in EXPECTED_FMUS if not (DIST_DIR / f"{name}.fmu").is_file()]
@@ -54,23 +35,7 @@ def test_fmpy_validate(fmu_path):
 
 
 def test_fmutool_check(fmu_path):
-    assert FMUTOOL.is_file(), f"{FMUTOOL} not found: install tests/requirements.txt into this venv"
-    proc = subprocess.run(
-        [str(FMUTOOL), "-input", str(fmu_path), "-check"],
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    out = ANSI.sub("", proc.stdout + proc.stderr)
-    findings = [line for line in out.splitlines() if FMUTOOL_FINDING.match(line.strip())]
-    assert proc.returncode == 0 and not findings, (
-        f"fmutool -check {fmu_path.name}: exit {proc.returncode}, {len(findings)} finding(s):\n"
-        + "\n".join(findings)
-        + f"\n--- full output ---\n{out}"
-    )
-    # the positive verdicts of both built-in checkers must be there (guards against a silent no-op)
-    assert "This FMU seems to be compliant with FMI-2.0." in out, out
-    assert "No semantic error against the FMI-2 standard." in out, out
+    assert_fmutool_clean(fmu_path)
 
 
 def test_is_fmi2_cosimulation(fmu_path):

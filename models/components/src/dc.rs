@@ -60,6 +60,35 @@ impl DcMachine {
     }
 }
 
+/// A chopper (DC-DC converter) as an ideal transformer of section 3.4.1.2 (the elevator drive of
+/// Figure 3.16.b): averaged over its switching period, it sets the load voltage to a fraction of
+/// the supply, U_out = alpha U_in, and draws I_in = alpha I_out, so that U_in I_in = U_out I_out
+/// (no loss, no storage). The duty cycle alpha is in [-1, 1] for a four-quadrant chopper.
+/// ```
+/// use components::dc::Chopper;
+/// let chopper = Chopper { supply_voltage_v: 400.0 };
+/// assert_eq!(chopper.output_voltage_v(0.6), 240.0);
+/// assert_eq!(chopper.supply_current_a(0.6, 50.0), 30.0);
+/// // Power in = power out (two equations of an ideal transformer, Table 3.5).
+/// assert_eq!(400.0 * chopper.supply_current_a(0.6, 50.0), chopper.output_voltage_v(0.6) * 50.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Chopper {
+    pub supply_voltage_v: f64,
+}
+
+impl Chopper {
+    /// Mean output voltage alpha U_in, V.
+    pub fn output_voltage_v(&self, duty_cycle: f64) -> f64 {
+        duty_cycle * self.supply_voltage_v
+    }
+
+    /// Mean current drawn from the supply, alpha I_out, A.
+    pub fn supply_current_a(&self, duty_cycle: f64, output_current_a: f64) -> f64 {
+        duty_cycle * output_current_a
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

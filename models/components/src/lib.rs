@@ -22,8 +22,8 @@
 //! assert!(dw_motor > 0.0 && dtwist > 0.0 && dw_fan > 0.0);
 //! ```
 //!
-//! Modules: [`electrical`] (R, L, C), [`mechanical`] (inertia, torsion spring and bar, reducer,
-//! fan load), [`induction`] (the induction machine, circuit and dq), [`control`] (ramps, filter,
+//! Modules: [`electrical`] (R, L, C), [`mechanical`] (inertia, torsion spring and bar, reducer, cable drum,
+//! fan load), [`dc`] (the DC machine of eq. 3.9, the chopper), [`induction`] (the induction machine, circuit and dq), [`control`] (ramps, filter,
 //! multiplier, PI), [`sources`], [`thermal`] (nodes and conductances), [`magnetic`] (reluctances
 //! and windings), [`activity`] (eq. 3.3). Every element has an example in its documentation
 //! (`cargo doc -p components --open`).
@@ -40,10 +40,10 @@ pub mod sources;
 pub mod thermal;
 
 pub use control::{Multiplier, PiController, SecondOrderFilter, SpeedRamp};
-pub use dc::DcMachine;
+pub use dc::{Chopper, DcMachine};
 pub use electrical::{Capacitor, Inductor, Resistor};
 pub use induction::{Fluxes, InductionMachine};
 pub use magnetic::{Reluctance, RlWinding, ToothedAirGap, Winding, MU_0_H_PER_M};
-pub use mechanical::{CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring};
+pub use mechanical::{CableDrum, CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring};
 pub use sources::{Ramp, SineVoltage};
 pub use thermal::{ThermalConductance, ThermalNode};

@@ -105,6 +105,38 @@ impl TorsionBar {
     }
 }
 
+/// A cable drum of radius r, an ideal rotation-to-translation transformer (section 3.4.1.2, the
+/// elevator of Figure 3.16.b): v = r w and C = r F. Masses hanging on the cable are seen by the
+/// drum's shaft as an inertia m r^2, by equality of kinetic energy (eq. 3.7).
+/// ```
+/// use components::CableDrum;
+/// let drum = CableDrum { radius_m: 0.25 };
+/// assert_eq!(drum.cable_speed_m_per_s(4.0), 1.0);
+/// assert_eq!(drum.torque_n_m(1962.0), 490.5); // 200 kg of unbalance at g = 9.81 m/s2
+/// assert_eq!(drum.referred_inertia_kg_m2(1800.0), 112.5); // 1/2 m v^2 = 1/2 (m r^2) w^2
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CableDrum {
+    pub radius_m: f64,
+}
+
+impl CableDrum {
+    /// Cable (cabin) speed for a drum speed, m/s.
+    pub fn cable_speed_m_per_s(&self, drum_speed_rad_per_s: f64) -> f64 {
+        self.radius_m * drum_speed_rad_per_s
+    }
+
+    /// Torque on the drum's shaft from a cable force, N m.
+    pub fn torque_n_m(&self, cable_force_n: f64) -> f64 {
+        self.radius_m * cable_force_n
+    }
+
+    /// A mass moving with the cable, seen as an inertia on the drum's shaft, kg m2.
+    pub fn referred_inertia_kg_m2(&self, mass_kg: f64) -> f64 {
+        mass_kg * self.radius_m * self.radius_m
+    }
+}
+
 /// A massless reducer: ratio N = w_high / w_low, efficiency eta on the power flowing through it
 /// (section 3.3.1, level a: "the reducer with its transformation ratio and its efficiency").
 /// ```
