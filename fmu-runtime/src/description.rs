@@ -111,6 +111,15 @@ fn constant_outputs<M: Model>(model: &M, table: &VariableTable, structure: &Stru
                     v.booleans[i] = !v.booleans[i];
                     trials.push(evaluate(model, table, t, &v, &states, false));
                 }
+                // A tunable parameter moves an output while the instance steps (a set point echoed
+                // to an output is a signal, not a constant).
+                for tunable in table.variables.iter().filter(|v| v.is_settable_while_stepping()) {
+                    if let Slot::Known(i) = tunable.slot {
+                        let mut v = values.clone();
+                        v.known[i] = if v.known[i] == 0.0 { 1.0 } else { 2.0 * v.known[i] };
+                        trials.push(evaluate(model, table, t, &v, &states, false));
+                    }
+                }
                 if trials.iter().flatten().any(|p1| matches!((value(&p0), value(p1)), (Some(a), Some(b)) if moved(a, b))) {
                     moves = true;
                     break 'configs;
@@ -679,8 +688,9 @@ mod tests {
         let p = &d.problems[0];
         assert!(p.starts_with("fmu-runtime/src/test_model.rs:"), "{p}");
         assert!(p.contains("output 'stuck' depends on nothing") && p.contains("Fix:"), "{p}");
-        // An output only time moves ('clock') is a signal: FMI lists it with no dependencies.
-        assert!(d.xml.contains(r#"name="clock""#));
+        // An output only time moves ('clock') is a signal: FMI lists it with no dependencies;
+        // so is one only a tunable parameter moves ('echo').
+        assert!(d.xml.contains(r#"name="clock""#) && d.xml.contains(r#"name="echo""#));
     }
 
     #[test]

@@ -127,6 +127,13 @@ pub struct EventInfo {
     pub next_event_time: Option<f64>,
 }
 
+/// Which lazily computed values are up to date (see `Instance::refresh_only`).
+#[derive(Clone, Copy, Default)]
+struct Fresh {
+    calculated: bool,
+    derivatives: bool,
+}
+
 pub struct Instance<M: Model> {
     pub interface: Interface,
     runtime: RuntimeVariables,
@@ -144,9 +151,21 @@ pub struct Instance<M: Model> {
     /// The continuous states at `time` (after initialization; before it, the start values).
     states: Vec<f64>,
     time: f64,
-    /// Outputs and derivatives are recomputed lazily, when read after a change.
+    /// Outputs and derivatives are recomputed lazily, when read after a change: `stale` says
+    /// that something changed, `fresh` which of the two (calculated values, derivatives) have
+    /// been recomputed since (a master reading outputs after each step never pays for the
+    /// derivatives).
     stale: bool,
-    integrator: Option<Integrator>,
+    fresh: Fresh,
+    /// A known may have changed since the solver last advanced (set by the master, moved along
+    /// its derivatives, restored): the solver's parameter vector is rebuilt and compared.
+    knowns_set: bool,
+    /// The model has inputs (else no input bookkeeping runs in a step), and discrete modes
+    /// (else no mode update runs at communication points).
+    has_inputs: bool,
+    has_modes: bool,
+    /// Boxed: `do_step` takes it out and puts it back, which moves only the pointer.
+    integrator: Option<Box<Integrator>>,
     snapshots: SnapshotStore,
     /// First and second time derivatives of the inputs for the next step (by known index;
     /// fmi2SetRealInputDerivatives), cleared after each step and when the input is set.
@@ -196,6 +215,10 @@ impl<M: Model> Instance<M> {
             states: vec![0.0; n_states],
             time: 0.0,
             stale: true,
+            fresh: Fresh::default(),
+            knowns_set: true,
+            has_inputs: false,
+            has_modes: false,
             integrator: None,
             snapshots: SnapshotStore::default(),
             input_slopes: Vec::new(),
@@ -204,6 +227,10 @@ impl<M: Model> Instance<M> {
         };
         inst.input_slopes = vec![0.0; inst.table.n_known];
         inst.input_curvatures = vec![0.0; inst.table.n_known];
+        inst.buffers.slopes = vec![0.0; inst.table.n_known];
+        inst.has_inputs = inst.table.variables.iter().any(|v| v.causality == crate::variables::Causality::Input);
+        // Modes are the discrete Integer locals (Declarations::mode).
+        inst.has_modes = inst.table.variables.iter().any(|v| matches!(v.slot, Slot::Integer(_)) && v.causality == crate::variables::Causality::Local);
         // A model whose initial states fail at the defaults says so at initialization.
         let _ = inst.load_state_starts();
         inst
@@ -242,16 +269,29 @@ impl<M: Model> Instance<M> {
 
     /// Recomputes outputs, locals and derivatives from the knowns if anything changed.
     fn refresh(&mut self) {
-        if !self.stale {
-            return;
-        }
-        if matches!(self.mode, Mode::Instantiated | Mode::InitializationMode) {
-            // A failure leaves NaN in the calculated states; exiting initialization reports it.
-            let _ = self.load_state_starts();
+        self.refresh_only(Fresh { calculated: true, derivatives: true });
+    }
+
+    /// Recomputes what `need` asks for (calculated values, derivatives) if anything changed
+    /// since it was last computed.
+    fn refresh_only(&mut self, need: Fresh) {
+        if self.stale {
+            if matches!(self.mode, Mode::Instantiated | Mode::InitializationMode) {
+                // A failure leaves NaN in the calculated states; exiting initialization reports it.
+                let _ = self.load_state_starts();
+            }
+            self.fresh = Fresh::default();
+            self.stale = false;
         }
         let v = &mut self.values;
-        evaluate(&*self.model, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.derivatives, &mut v.calculated);
-        self.stale = false;
+        if need.calculated && !self.fresh.calculated {
+            crate::model::evaluate_outputs(&*self.model, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.calculated);
+            self.fresh.calculated = true;
+        }
+        if need.derivatives && !self.fresh.derivatives {
+            crate::model::evaluate_derivatives(&*self.model, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.derivatives);
+            self.fresh.derivatives = true;
+        }
     }
 
     fn variable(&self, vr: u32, expected: BaseType) -> CallResult<&Variable> {
@@ -271,10 +311,17 @@ impl<M: Model> Instance<M> {
 
     /// fmi2GetReal/Integer/Boolean.
     pub fn get<T: FmiValue>(&mut self, vrs: &[u32], out: &mut [T]) -> CallResult {
+        let mut need = Fresh::default();
         for vr in vrs {
-            self.variable(*vr, T::TYPE)?;
+            match self.variable(*vr, T::TYPE)?.slot {
+                Slot::Calculated(_) => need.calculated = true,
+                Slot::Derivative(_) => need.derivatives = true,
+                _ => {}
+            }
         }
-        self.refresh();
+        // Reading only knowns (states, parameters, inputs) evaluates nothing, but a pending
+        // initialization still fills in the calculated states.
+        self.refresh_only(need);
         for (vr, o) in vrs.iter().zip(out.iter_mut()) {
             *o = T::read(&self.values, self.table.variables[*vr as usize].slot);
         }
@@ -309,6 +356,7 @@ impl<M: Model> Instance<M> {
             }
         }
         self.stale = true;
+        self.knowns_set = true;
         Ok(())
     }
 
@@ -385,7 +433,7 @@ impl<M: Model> Instance<M> {
         self.model.check(&k)
     }
 
-    fn make_integrator(&self) -> Result<Integrator, String> {
+    fn make_integrator(&self) -> Result<Box<Integrator>, String> {
         Integrator::new(
             self.model.clone(),
             &self.values.known,
@@ -398,6 +446,7 @@ impl<M: Model> Instance<M> {
             &self.table.state_nominals(),
             &self.table.state_known_index,
         )
+        .map(Box::new)
     }
 
     /// fmi2DoStep: integrate from the communication point to the next one.
@@ -428,7 +477,9 @@ impl<M: Model> Instance<M> {
         let mut x = std::mem::take(&mut self.buffers.x);
         x.clone_from(&self.states);
         let mut slopes = std::mem::take(&mut self.buffers.slopes);
-        self.extrapolated_slopes(t, &mut slopes);
+        if self.has_inputs {
+            self.extrapolated_slopes(t, &mut slopes);
+        }
         let result = self.integrate(t, &mut x, t_end, &slopes);
         if let Err(message) = result {
             (self.buffers.x, self.buffers.slopes) = (x, slopes);
@@ -438,29 +489,32 @@ impl<M: Model> Instance<M> {
                 message: format!("step from {t} s to {t_end} s discarded, the instance stays at {t} s: {message}"),
             });
         }
-        match &mut self.previous_inputs {
-            Some((t_prev, previous)) => {
-                *t_prev = t;
-                previous.clone_from(&self.values.known);
+        if self.has_inputs {
+            match &mut self.previous_inputs {
+                Some((t_prev, previous)) => {
+                    *t_prev = t;
+                    previous.clone_from(&self.values.known);
+                }
+                None => self.previous_inputs = Some((t, self.values.known.clone())),
             }
-            None => self.previous_inputs = Some((t, self.values.known.clone())),
-        }
-        // At the end of the step the inputs are where their motion took them, so outputs that
-        // depend on inputs directly (a shaft's torque) are those of t_end, not of t.
-        for (i, (slope, curvature)) in slopes.iter().zip(&self.input_curvatures).enumerate() {
-            // Only moving inputs are written: `+= 0.0` would turn an input's -0.0 into +0.0.
-            if *slope != 0.0 || *curvature != 0.0 {
-                self.values.known[i] += slope * h + 0.5 * curvature * h * h;
+            // At the end of the step the inputs are where their motion took them, so outputs
+            // that depend on inputs directly (a shaft's torque) are those of t_end, not of t.
+            for (i, (slope, curvature)) in slopes.iter().zip(&self.input_curvatures).enumerate() {
+                // Only moving inputs are written: `+= 0.0` would turn an input's -0.0 into +0.0.
+                if *slope != 0.0 || *curvature != 0.0 {
+                    self.values.known[i] += slope * h + 0.5 * curvature * h * h;
+                    self.knowns_set = true;
+                }
             }
+            // Input derivatives describe one step; the master sets new values (and derivatives)
+            // at the next communication point.
+            self.input_slopes.fill(0.0);
+            self.input_curvatures.fill(0.0);
         }
         std::mem::swap(&mut self.states, &mut x);
         (self.buffers.x, self.buffers.slopes) = (x, slopes);
         self.time = t_end;
         self.store_states();
-        // Input derivatives describe one step; the master sets new values (and derivatives)
-        // at the next communication point.
-        self.input_slopes.fill(0.0);
-        self.input_curvatures.fill(0.0);
         self.stale = true;
         Ok(())
     }
@@ -490,12 +544,15 @@ impl<M: Model> Instance<M> {
     fn integrate(&mut self, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64]) -> Result<(), String> {
         let mut integrator = self.integrator.take().ok_or("the instance has no ODE solver (initialization did not finish)")?;
         let step_size = integrator.step_size;
+        // Without modes, no integer changes in a step.
         let mut modes = std::mem::take(&mut self.buffers.modes);
-        modes.clone_from(&self.values.integers);
+        if self.has_modes {
+            modes.clone_from(&self.values.integers);
+        }
         let curvatures = std::mem::take(&mut self.input_curvatures);
         let mut result = self.integrate_with(&mut integrator, t, x, t_end, slopes, &curvatures);
         self.input_curvatures = curvatures;
-        if result.is_err() && self.values.integers != modes {
+        if result.is_err() && self.has_modes && self.values.integers != modes {
             self.values.integers.copy_from_slice(&modes);
             match self.make_integrator() {
                 Ok(made) => {
@@ -515,11 +572,11 @@ impl<M: Model> Instance<M> {
         // (a force above the static friction breaks a stuck body loose) without any indicator
         // crossing zero during integration.
         let known = std::mem::take(&mut self.values.known);
-        let settled = self.settle_modes(t, &known, x);
+        let settled = if self.has_modes { self.settle_modes(t, &known, x) } else { Ok((false, false)) };
         self.values.known = known;
         if settled?.0 {
             let step_size = integrator.step_size;
-            *integrator = self.make_integrator()?;
+            *integrator = *self.make_integrator()?;
             integrator.step_size = step_size;
         }
         let mut now = t;
@@ -544,7 +601,8 @@ impl<M: Model> Instance<M> {
                 None => f64::INFINITY,
             };
             let limit = self.experiment.stop_time.map_or(limit, |stop| limit.min(stop)).max(next);
-            let how = integrator.advance(&v.known, &motion, now, x, next, limit)?;
+            let knowns_set = std::mem::replace(&mut self.knowns_set, false);
+            let how = integrator.advance(&v.known, &motion, knowns_set, now, x, next, limit)?;
             match how {
                 Advanced::Reached if next == t_end => return Ok(()),
                 Advanced::Reached => {
@@ -578,7 +636,7 @@ impl<M: Model> Instance<M> {
             let (modes_changed, _) = self.settle_modes(now, &known, x)?;
             if modes_changed {
                 let step_size = integrator.step_size;
-                *integrator = self.make_integrator()?;
+                *integrator = *self.make_integrator()?;
                 integrator.step_size = step_size;
             }
         }
@@ -695,6 +753,7 @@ impl<M: Model> Instance<M> {
             }
             updates.push((i, *order, *value));
         }
+        self.knowns_set = true;
         for (i, order, value) in updates {
             if order == 1 {
                 self.input_slopes[i] = value;
@@ -812,14 +871,14 @@ impl<M: Model> Instance<M> {
 
     pub fn get_continuous_states(&mut self, x: &mut [f64]) -> CallResult {
         self.check_length(x.len(), "continuous states", self.table.n_states)?;
-        self.refresh();
+        self.refresh_only(Fresh::default());
         x.copy_from_slice(&self.states);
         Ok(())
     }
 
     pub fn get_derivatives(&mut self, dx: &mut [f64]) -> CallResult {
         self.check_length(dx.len(), "derivatives", self.table.n_states)?;
-        self.refresh();
+        self.refresh_only(Fresh { calculated: false, derivatives: true });
         dx.copy_from_slice(&self.values.derivatives);
         Ok(())
     }
@@ -962,6 +1021,7 @@ impl<M: Model> Instance<M> {
         self.input_curvatures = s.input_curvatures;
         self.previous_inputs = s.previous_inputs;
         self.stale = true;
+        self.knowns_set = true;
         self.integrator = None;
         if initialized && self.interface == Interface::CoSimulation {
             let mut integrator = self.make_integrator().map_err(Failure::error)?;

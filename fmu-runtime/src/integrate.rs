@@ -194,6 +194,13 @@ pub struct InputMotion<'a> {
     pub since: f64,
 }
 
+impl InputMotion<'_> {
+    /// Whether some known moves (a slope or a curvature is not zero).
+    pub fn moving(&self) -> bool {
+        self.slopes.iter().chain(self.curvatures).any(|v| *v != 0.0)
+    }
+}
+
 /// Writes the solver's parameter vector [known (n), slopes (n), curvatures (n), since, moving]
 /// into `p`, canonical: the state start slots of the knowns (`state_known`, overwritten by
 /// every step and never read by the equations, which read the states from x) are zero, and so
@@ -201,7 +208,7 @@ pub struct InputMotion<'a> {
 /// same vector step after step, and an instance restored from an FMU state the same vector as
 /// the one that saved it.
 fn fill_parameters(p: &mut Vec<f64>, known: &[f64], motion: &InputMotion, state_known: &[usize]) {
-    let moving = motion.slopes.iter().chain(motion.curvatures).any(|v| *v != 0.0);
+    let moving = motion.moving();
     p.clear();
     p.extend_from_slice(known);
     for k in state_known {
@@ -434,19 +441,27 @@ impl Integrator {
     /// moves, and interpolates the state at `t1`; a later advance from there continues that
     /// step while nothing changed. On error `x` is left unchanged and the message says why
     /// (reported through the FMI logger).
-    pub fn advance(&mut self, known: &[f64], motion: &InputMotion, t0: f64, x: &mut [f64], t1: f64, limit: f64) -> Result<Advanced, String> {
+    ///
+    /// `knowns_set`: whether a known may have changed since the last advance (set by the master,
+    /// moved along its derivatives). When not, and no input moves now or moved in the last
+    /// advance, the parameter vector is that of the last advance and is not rebuilt.
+    #[allow(clippy::too_many_arguments)]
+    pub fn advance(&mut self, known: &[f64], motion: &InputMotion, knowns_set: bool, t0: f64, x: &mut [f64], t1: f64, limit: f64) -> Result<Advanced, String> {
         if x.is_empty() {
             return Ok(Advanced::Reached);
         }
-        let mut p = std::mem::take(&mut self.p_next);
-        fill_parameters(&mut p, known, motion, &self.state_known);
-        if !same_bits(&p, &self.p) {
-            let ctx = *self.problem.context();
-            self.problem.eqn_mut().set_params(&Vect::from_slice(&p, ctx));
-            std::mem::swap(&mut self.p, &mut p);
-            self.resume = false;
+        let was_moving = self.p[3 * self.n_known + 1] != 0.0;
+        if knowns_set || was_moving || motion.moving() {
+            let mut p = std::mem::take(&mut self.p_next);
+            fill_parameters(&mut p, known, motion, &self.state_known);
+            if !same_bits(&p, &self.p) {
+                let ctx = *self.problem.context();
+                self.problem.eqn_mut().set_params(&Vect::from_slice(&p, ctx));
+                std::mem::swap(&mut self.p, &mut p);
+                self.resume = false;
+            }
+            self.p_next = p;
         }
-        self.p_next = p;
         let resume = std::mem::replace(&mut self.resume, false);
         let (how, resume) = match self.method {
             Solver::ExplicitRungeKutta => self.advance_explicit(resume, t0, x, t1, limit)?,

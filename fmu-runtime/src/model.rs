@@ -91,7 +91,9 @@ pub trait Model: Sized + Send + Sync + 'static {
     /// `next.reinit(state, value)` sets a state where the physics says so. The runtime calls this
     /// again until nothing changes (at most `MAX_MODE_ITERATIONS` times). Let a mode hold exactly
     /// while its indicator is > 0: the point the runtime (or an ME master) stops at has the
-    /// indicator <= 0, possibly exactly 0, and the update must then leave the mode.
+    /// indicator <= 0, possibly exactly 0, and the update must then leave the mode. For a model
+    /// that declares no mode it runs only at events and at initialization, not at every
+    /// communication point.
     fn update_modes(&self, _k: &Knowns, _next: &mut ModeUpdate) {}
 
     /// The state derivatives dx/dt at the knowns `k`.
@@ -114,10 +116,19 @@ pub fn evaluate<M: Model>(
     derivatives: &mut [f64],
     calculated: &mut [f64],
 ) {
-    let k = Knowns::new(time, known, states, integers, booleans);
+    evaluate_derivatives(model, time, known, states, integers, booleans, derivatives);
+    evaluate_outputs(model, time, known, states, integers, booleans, calculated);
+}
+
+/// The derivatives alone (see [`evaluate`]).
+pub fn evaluate_derivatives<M: Model>(model: &M, time: f64, known: &[f64], states: &[f64], integers: &[i32], booleans: &[bool], derivatives: &mut [f64]) {
     derivatives.fill(0.0);
-    model.derivatives(&k, &mut Derivatives::new(derivatives));
-    model.outputs(&k, &mut Outputs::new(calculated));
+    model.derivatives(&Knowns::new(time, known, states, integers, booleans), &mut Derivatives::new(derivatives));
+}
+
+/// The calculated values alone: outputs, locals, calculated parameters (see [`evaluate`]).
+pub fn evaluate_outputs<M: Model>(model: &M, time: f64, known: &[f64], states: &[f64], integers: &[i32], booleans: &[bool], calculated: &mut [f64]) {
+    model.outputs(&Knowns::new(time, known, states, integers, booleans), &mut Outputs::new(calculated));
 }
 
 /// Fills in the calculated states of `states` (which holds the start values of the others)

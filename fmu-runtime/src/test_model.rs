@@ -233,9 +233,11 @@ impl Model for Careless {
 /// state move: only the first is a problem.
 pub struct Frozen {
     gain: Parameter,
+    set_point: Parameter,
     x: State,
     stuck: Output,
     clock: Output,
+    echo: Output,
     y: Output,
 }
 
@@ -246,9 +248,11 @@ impl Model for Frozen {
     fn declare(d: &mut Declarations) -> Self {
         Frozen {
             gain: d.parameter("gain", 2.0, "1").describe("a gain"),
+            set_point: d.parameter("set_point", 3.0, "1").tunable().describe("a set point the master may change while stepping"),
             x: d.state("x", 1.0, "1").describe("state"),
             stuck: d.output("stuck", "1").describe("twice the gain, whatever happens"),
             clock: d.output("clock", "s").describe("the time"),
+            echo: d.output("echo", "1").describe("the set point"),
             y: d.output("y", "1").describe("the state"),
         }
     }
@@ -258,6 +262,7 @@ impl Model for Frozen {
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
         out[self.stuck] = 2.0 * k[self.gain];
         out[self.clock] = k.time();
+        out[self.echo] = k[self.set_point];
         out[self.y] = k[self.x];
     }
 }
