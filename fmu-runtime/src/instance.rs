@@ -570,9 +570,10 @@ impl<M: Model> Instance<M> {
     fn integrate_with(&mut self, integrator: &mut Integrator, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64], curvatures: &[f64]) -> Result<(), String> {
         // Inputs or tunable parameters set at this communication point may change the modes
         // (a force above the static friction breaks a stuck body loose) without any indicator
-        // crossing zero during integration.
+        // crossing zero during integration. When nothing was set since the last step, the modes
+        // are those the last step left consistent (it stopped at every crossing up to here).
         let known = std::mem::take(&mut self.values.known);
-        let settled = if self.has_modes { self.settle_modes(t, &known, x) } else { Ok((false, false)) };
+        let settled = if self.has_modes && self.knowns_set { self.settle_modes(t, &known, x) } else { Ok((false, false)) };
         self.values.known = known;
         if settled?.0 {
             let step_size = integrator.step_size;
@@ -581,9 +582,10 @@ impl<M: Model> Instance<M> {
         }
         let mut now = t;
         let (mut last_event, mut at_one_instant) = (f64::NEG_INFINITY, 0usize);
+        // Without inputs nothing moves (the slopes are zero): no need to look.
+        let motion = if self.has_inputs { InputMotion::new(slopes, curvatures, t) } else { InputMotion::still(slopes) };
         for _ in 0..MAX_EVENTS_PER_STEP {
             let v = &self.values;
-            let motion = InputMotion { slopes, curvatures, since: t };
             let k = Knowns::new(now, &v.known, x, &v.integers, &v.booleans);
             // An event within rounding of the step's end is taken as the end (a master's
             // float time 9.999999999999897 s for an event at 10 s).
@@ -721,6 +723,7 @@ impl<M: Model> Instance<M> {
         self.mode = Mode::Instantiated;
         let _ = self.load_state_starts();
         self.stale = true;
+        self.knowns_set = true;
         self.debug("reset");
         Ok(())
     }

@@ -192,12 +192,24 @@ pub struct InputMotion<'a> {
     pub slopes: &'a [f64],
     pub curvatures: &'a [f64],
     pub since: f64,
+    /// Whether some known moves (a slope or a curvature is not zero): see [`InputMotion::new`].
+    moving: bool,
 }
 
-impl InputMotion<'_> {
-    /// Whether some known moves (a slope or a curvature is not zero).
+impl<'a> InputMotion<'a> {
+    pub fn new(slopes: &'a [f64], curvatures: &'a [f64], since: f64) -> Self {
+        let moving = slopes.iter().chain(curvatures).any(|v| *v != 0.0);
+        InputMotion { slopes, curvatures, since, moving }
+    }
+
+    /// No known moves (a model without inputs, or a master that gives no input derivatives and
+    /// no extrapolation).
+    pub fn still(zeros: &'a [f64]) -> Self {
+        InputMotion { slopes: zeros, curvatures: zeros, since: 0.0, moving: false }
+    }
+
     pub fn moving(&self) -> bool {
-        self.slopes.iter().chain(self.curvatures).any(|v| *v != 0.0)
+        self.moving
     }
 }
 
@@ -323,6 +335,8 @@ pub struct Integrator {
     y_work: Vect,
     z: Vec<f64>,
     z_prev: Vec<f64>,
+    /// The explicit method's zero-crossing search buffers.
+    roots: RootScratch,
     /// The size of the solver's next step (None before the first step: diffsol's starting-step
     /// heuristic then chooses).
     pub step_size: Option<f64>,
@@ -371,7 +385,7 @@ impl Integrator {
         let atol: Vec<f64> = nominals.iter().map(|n| ABSOLUTE_PER_RELATIVE * rtol * n.abs().max(f64::MIN_POSITIVE)).collect();
         let zeros = vec![0.0; known.len()];
         let mut p = Vec::with_capacity(3 * known.len() + 2);
-        fill_parameters(&mut p, known, &InputMotion { slopes: &zeros, curvatures: &zeros, since: 0.0 }, state_known);
+        fill_parameters(&mut p, known, &InputMotion::still(&zeros), state_known);
         let ctx = NalgebraContext::default();
         let eqn = Equations { rhs: Box::new(f), jac, p: Vect::zeros(p.len(), ctx), n_states, ctx };
         let problem = OdeBuilder::<Mat>::new()
@@ -400,6 +414,7 @@ impl Integrator {
             y_work: Vect::zeros(n_states, ctx),
             z: vec![0.0; n_indicators],
             z_prev: vec![0.0; n_indicators],
+            roots: RootScratch::new(n_states, n_indicators),
             step_size: None,
         })
     }
@@ -507,7 +522,7 @@ impl Integrator {
             self.euler(t0, x0, t1);
             return Ok((Advanced::Reached, false));
         }
-        let Integrator { problem, rhs, indicators, n_indicators, rtol, atol, p, tsit, y_end, z, z_prev, step_size, .. } = self;
+        let Integrator { problem, rhs, indicators, n_indicators, rtol, atol, p, tsit, y_end, z, z_prev, roots, step_size, .. } = self;
         let tsit = tsit.as_mut().ok_or("the explicit solver is missing")?;
         let p: &[f64] = p;
         if !resume {
@@ -521,7 +536,7 @@ impl Integrator {
         }
         let events = indicators.as_ref().map(|g| Events { g: &**g, p, n: *n_indicators });
         let mut f = |y: &[f64], t: f64, dy: &mut [f64]| rhs(y, p, t, dy);
-        let result = run_explicit(tsit, &mut f, events.as_ref(), t1, limit, y_end, z, z_prev);
+        let result = run_explicit(tsit, &mut f, events.as_ref(), t1, limit, y_end, z, z_prev, roots);
         *step_size = Some(tsit.h);
         // With moving inputs the step ends at t1 anyway; the next one restarts with the
         // master's next motion.
@@ -571,6 +586,7 @@ fn run_explicit(
     y_end: &mut Vec<f64>,
     z: &mut [f64],
     z_prev: &mut [f64],
+    scratch: &mut RootScratch,
 ) -> Result<(Advanced, bool), String> {
     let n = tsit.last.y_end.len();
     y_end.clear();
@@ -591,25 +607,24 @@ fn run_explicit(
         let (ta, tb) = (tsit.last.t_start, tsit.last.t_end);
         if let Some(ev) = events {
             ev.into(tb, &tsit.last.y_end, z);
-            let state_at = |t: f64| -> Result<Vec<f64>, String> {
-                let mut y = vec![0.0; n];
-                tsit.interpolate(t, &mut y);
-                Ok(y)
+            let stepper: &Tsit = tsit;
+            let mut state_at = |t: f64, y: &mut [f64]| -> Result<(), String> {
+                stepper.interpolate(t, y);
+                Ok(())
             };
-            if let Some(found) = first_crossing(&state_at, ev, ta, z_prev, tb, z, &tsit.last.y_end)? {
+            if let Some(found) = first_crossing(&mut state_at, ev, ta, z_prev, tb, z, &stepper.last.y_end, scratch)? {
                 let found = if tb <= t1 {
                     Some(found)
                 } else {
                     // Only a crossing before t1 belongs to this communication step: the same
                     // search on [ta, t1], as if the step had stopped at t1.
-                    tsit.interpolate(t1, y_end);
+                    stepper.interpolate(t1, y_end);
                     ev.into(t1, y_end, z);
-                    let y1 = y_end.clone();
-                    first_crossing(&state_at, ev, ta, z_prev, t1, z, &y1)?
+                    first_crossing(&mut state_at, ev, ta, z_prev, t1, z, y_end, scratch)?
                 };
                 return Ok(match found {
-                    Some((time, indicator, y_root)) => {
-                        y_end.copy_from_slice(&y_root);
+                    Some((time, indicator)) => {
+                        y_end.copy_from_slice(&scratch.y_root);
                         (Advanced::Crossing { time, indicator }, false)
                     }
                     None => (Advanced::Reached, false),
@@ -655,12 +670,6 @@ struct Events<'a> {
 }
 
 impl Events<'_> {
-    fn at(&self, t: f64, y: &[f64]) -> Vec<f64> {
-        let mut z = vec![0.0; self.n];
-        self.into(t, y, &mut z);
-        z
-    }
-
     fn into(&self, t: f64, y: &[f64], z: &mut [f64]) {
         (self.g)(y, self.p, t, z);
     }
@@ -707,12 +716,16 @@ where
                 let y: &[f64] = if interpolated { y_work.inner().as_slice() } else { state.y.inner().as_slice() };
                 if let Some(ev) = events {
                     ev.into(t, y, z);
-                    let dense = |t: f64| -> Result<Vec<f64>, String> {
-                        solver.interpolate(t).map(|v| v.clone_as_vec()).map_err(|e| format!("could not interpolate the state at t = {t} s: {e}"))
+                    let mut dense = |t: f64, out: &mut [f64]| -> Result<(), String> {
+                        let v = solver.interpolate(t).map_err(|e| format!("could not interpolate the state at t = {t} s: {e}"))?;
+                        out.copy_from_slice(v.inner().as_slice());
+                        Ok(())
                     };
-                    if let Some((time, indicator, y_root)) = first_crossing(&dense, ev, t_prev, z_prev, t, z, y)? {
+                    // The implicit method is made afresh for every advance anyway: a scratch of its own.
+                    let mut scratch = RootScratch::default();
+                    if let Some((time, indicator)) = first_crossing(&mut dense, ev, t_prev, z_prev, t, z, y, &mut scratch)? {
                         y_end.clear();
-                        y_end.extend_from_slice(&y_root);
+                        y_end.extend_from_slice(&scratch.y_root);
                         return Ok((h, Advanced::Crossing { time, indicator }));
                     }
                     for (zp, zi) in z_prev.iter_mut().zip(z.iter()) {
@@ -740,33 +753,53 @@ where
     ))
 }
 
+/// Work vectors of [`first_crossing`], kept between calls so that the search allocates nothing:
+/// a trial state and its indicators, the state at the bracket's crossed end, and the result.
+#[derive(Default)]
+pub struct RootScratch {
+    y_trial: Vec<f64>,
+    z_trial: Vec<f64>,
+    y_hi: Vec<f64>,
+    /// The state just past the crossing found by the last successful search.
+    pub y_root: Vec<f64>,
+}
+
+impl RootScratch {
+    /// Sized for `n_states` states and `n_indicators` indicators up front, so that the first
+    /// search after the integrator is made (at an event) does not allocate either.
+    pub fn new(n_states: usize, n_indicators: usize) -> Self {
+        let states = || Vec::with_capacity(n_states);
+        RootScratch { y_trial: states(), z_trial: Vec::with_capacity(n_indicators), y_hi: states(), y_root: states() }
+    }
+}
+
 /// The earliest zero crossing within the last step [ta, tb] (indicators za at ta, zb at tb, state
-/// yb at tb), located by the Illinois method on the solver's dense output: (time just past the
-/// crossing, indicator, state there), or None.
+/// yb at tb), located by the Illinois method on the solver's dense output `dense(t, y)`: (time
+/// just past the crossing, indicator), with the state there in `scratch.y_root`; or None.
 #[allow(clippy::too_many_arguments)]
 fn first_crossing(
-    dense: &dyn Fn(f64) -> Result<Vec<f64>, String>,
+    dense: &mut dyn FnMut(f64, &mut [f64]) -> Result<(), String>,
     ev: &Events,
     ta: f64,
     za: &[f64],
     tb: f64,
     zb: &[f64],
     yb: &[f64],
-) -> Result<Option<(f64, usize, Vec<f64>)>, String> {
-    let mut best: Option<(f64, usize, Vec<f64>)> = None;
-    let state_at = |t: f64| -> Result<Vec<f64>, String> {
-        if t == tb {
-            return Ok(yb.to_vec());
-        }
-        dense(t)
-    };
+    scratch: &mut RootScratch,
+) -> Result<Option<(f64, usize)>, String> {
+    let RootScratch { y_trial, z_trial, y_hi, y_root } = scratch;
+    y_trial.resize(yb.len(), 0.0);
+    z_trial.resize(ev.n, 0.0);
+    let mut best: Option<(f64, usize)> = None;
     for j in 0..ev.n {
         if !crossed(za[j], zb[j]) {
             continue;
         }
         // Bracket: g(lo) on the start side (za's sign), g(hi) crossed.
         let (mut lo, mut g_lo) = (ta, za[j]);
-        let (mut hi, mut g_hi, mut y_hi) = (tb, zb[j], yb.to_vec());
+        let (mut hi, mut g_hi) = (tb, zb[j]);
+        y_hi.clear();
+        y_hi.extend_from_slice(yb);
         let tol = ROOT_TIME_TOLERANCE * tb.abs().max(1.0);
         let mut side = 0i8;
         for _ in 0..200 {
@@ -777,12 +810,17 @@ fn first_crossing(
             // Keep the trial point strictly inside, off the ends by a little.
             let margin = 0.5 * tol;
             let t = if secant.is_finite() { secant.clamp(lo + margin, hi - margin) } else { 0.5 * (lo + hi) };
-            let y = state_at(t)?;
-            let g = ev.at(t, &y)[j];
+            if t == tb {
+                y_trial.copy_from_slice(yb);
+            } else {
+                dense(t, y_trial)?;
+            }
+            ev.into(t, y_trial, z_trial);
+            let g = z_trial[j];
             if crossed(za[j], g) {
                 hi = t;
                 g_hi = g;
-                y_hi = y;
+                y_hi.copy_from_slice(y_trial);
                 if side == 1 {
                     g_lo *= 0.5; // Illinois: the same end twice, halve the other's weight
                 }
@@ -797,11 +835,13 @@ fn first_crossing(
             }
         }
         let earlier = match &best {
-            Some((t, _, _)) => hi < *t,
+            Some((t, _)) => hi < *t,
             None => true,
         };
         if earlier {
-            best = Some((hi, j, y_hi));
+            best = Some((hi, j));
+            y_root.clear();
+            y_root.extend_from_slice(y_hi);
         }
     }
     Ok(best)

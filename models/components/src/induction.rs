@@ -89,6 +89,11 @@ impl InductionMachine {
     }
 
     /// Steady state at a slip: torque = air-gap power / synchronous speed, 3 |I_r|^2 R_r/s / W_s.
+    ///
+    /// The circuit solved with one complex division: with D = Z_m + Z_r and
+    /// E = Z_s D + Z_m Z_r, I_s = V / (Z_s + Z_m Z_r / D) = V D / E and the rotor branch's share
+    /// I_r = I_s Z_m / D = V Z_m / E (the same algebra as Z_s + Z_m || Z_r, three divisions
+    /// fewer: this runs at every evaluation of levels a-c).
     pub fn steady_state_at_slip(&self, slip: f64) -> SteadyState {
         let w = self.supply_angular_frequency();
         let v = Complex::new(self.phase_voltage_rms_v(), 0.0);
@@ -99,8 +104,10 @@ impl InductionMachine {
             return SteadyState { slip, torque_n_m: 0.0, stator_current_rms_a: i_s.abs(), electrical_power_w: 3.0 * (v * i_s.conj()).re };
         }
         let z_r = Complex::new(self.rotor_resistance_ohm / slip, w * self.rotor_leakage_h);
-        let i_s = v / (z_s + z_m.parallel(z_r));
-        let i_r = i_s * z_m / (z_m + z_r);
+        let e = z_s * (z_m + z_r) + z_m * z_r;
+        let v_over_e = v / e;
+        let i_s = v_over_e * (z_m + z_r);
+        let i_r = v_over_e * z_m;
         let air_gap_power = 3.0 * i_r.norm_sqr() * self.rotor_resistance_ohm / slip;
         SteadyState {
             slip,
@@ -232,6 +239,26 @@ mod tests {
         let p_air = st.torque_n_m * m.synchronous_speed_rad_per_s();
         let p_cu_s = 3.0 * st.stator_current_rms_a.powi(2) * m.stator_resistance_ohm;
         assert!((st.electrical_power_w - p_air - p_cu_s).abs() < 1e-6 * st.electrical_power_w);
+    }
+
+    #[test]
+    fn the_one_division_circuit_solution_is_the_series_parallel_one() {
+        // I_s = V / (Z_s + Z_m || Z_r), I_r = I_s Z_m / (Z_m + Z_r), written out the textbook way.
+        let m = machine();
+        let w = m.supply_angular_frequency();
+        let v = Complex::new(m.phase_voltage_rms_v(), 0.0);
+        let (z_s, z_m) = (Complex::new(m.stator_resistance_ohm, w * m.stator_leakage_h), Complex::new(0.0, w * m.magnetizing_h));
+        for slip in [1.0, 0.3, 0.05, 0.023, 1e-4, -0.02] {
+            let z_r = Complex::new(m.rotor_resistance_ohm / slip, w * m.rotor_leakage_h);
+            let i_s = v / (z_s + z_m.parallel(z_r));
+            let i_r = i_s * z_m / (z_m + z_r);
+            let torque = 3.0 * i_r.norm_sqr() * m.rotor_resistance_ohm / slip / m.synchronous_speed_rad_per_s();
+            let st = m.steady_state_at_slip(slip);
+            assert!((st.torque_n_m - torque).abs() <= 1e-12 * torque.abs(), "slip {slip}: {} vs {torque}", st.torque_n_m);
+            assert!((st.stator_current_rms_a - i_s.abs()).abs() <= 1e-12 * i_s.abs());
+            let p = 3.0 * (v * i_s.conj()).re;
+            assert!((st.electrical_power_w - p).abs() <= 1e-12 * p.abs());
+        }
     }
 
     #[test]

@@ -164,10 +164,40 @@ impl Reducer {
     /// torque on the receiving side, so eta multiplies when power flows from the high side
     /// (T w >= 0) and divides when it flows back.
     pub fn low_side_torque_n_m(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
-        if high_torque_n_m * high_speed_rad_per_s >= 0.0 {
+        self.low_side_torque_flowing_n_m(high_torque_n_m, high_torque_n_m * high_speed_rad_per_s >= 0.0)
+    }
+
+    /// Low-side torque for a high-side torque with the direction of the power given (`forward`:
+    /// from the high side to the low side), N m. The efficiency switches from eta to 1/eta where
+    /// the power reverses, a kink in the equations: a model that holds the direction as a
+    /// discrete mode (see [`next_power_flow`](Self::next_power_flow)) lets the solver stop there
+    /// instead of stepping across it.
+    pub fn low_side_torque_flowing_n_m(&self, high_torque_n_m: f64, forward: bool) -> f64 {
+        if forward {
             self.ratio * self.efficiency * high_torque_n_m
         } else {
             self.ratio * high_torque_n_m / self.efficiency
+        }
+    }
+
+    /// The event indicator of a power-flow mode (1: the power flows from the high side, -1: back):
+    /// the power through the reducer, T w on the high side, signed to be positive while the
+    /// mode holds.
+    pub fn power_flow_indicator(&self, mode: i32, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+        f64::from(mode.signum()) * high_torque_n_m * high_speed_rad_per_s
+    }
+
+    /// The power-flow mode after an event: the sign of the power P; where P is exactly zero, the
+    /// sign of dP/dt (where it is heading), and where that is zero too (a drive at rest) the mode
+    /// holds. The answer does not depend on the current mode when P != 0, so a repeated update
+    /// settles at once.
+    pub fn next_power_flow(&self, mode: i32, power_w: f64, power_rate_w_per_s: f64) -> i32 {
+        if power_w != 0.0 {
+            power_w.signum() as i32
+        } else if power_rate_w_per_s != 0.0 {
+            power_rate_w_per_s.signum() as i32
+        } else {
+            mode
         }
     }
 
@@ -318,6 +348,24 @@ mod tests {
         }
         // Forward: 3 % of the power is lost.
         assert!((r.loss_w(100.0, 150.0) - 0.03 * 15000.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_power_flow_mode_follows_the_power_and_settles_at_zero() {
+        let r = Reducer { ratio: 10.0, efficiency: 0.97 };
+        // The held branch agrees with the sign test wherever the mode is right.
+        for (t, w) in [(100.0, 150.0), (-100.0, 150.0), (100.0, -150.0), (-50.0, -10.0)] {
+            let mode = r.next_power_flow(1, t * w, 0.0);
+            assert_eq!(r.low_side_torque_flowing_n_m(t, mode > 0), r.low_side_torque_n_m(t, w));
+            assert!(r.power_flow_indicator(mode, t, w) > 0.0, "the mode holds while its indicator is positive");
+        }
+        // At P = 0 the update follows dP/dt, whatever the mode, so it settles in one update
+        // (a flip on the indicator's sign alone would chatter between the modes at P = 0).
+        for mode in [1, -1] {
+            assert_eq!(r.next_power_flow(mode, 0.0, -3.0), -1);
+            assert_eq!(r.next_power_flow(mode, 0.0, 2.0), 1);
+            assert_eq!(r.next_power_flow(mode, 0.0, 0.0), mode, "at rest the mode holds");
+        }
     }
 
     #[test]

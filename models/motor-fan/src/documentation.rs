@@ -8,7 +8,7 @@ and the fan blades. The question is the torque the reducer sees during the start
 <ul>
 <li>Motor inertia: J_motor dw_m/dt = T_m - T_shaft.</li>
 <li>Driveshaft: d(theta)/dt = w_m - N w_fan; T_shaft = K_shaft theta + D_shaft (w_m - N w_fan).</li>
-<li>Reducer (ratio N, efficiency eta): T_low = N eta T_shaft when the power flows to the fan, N T_shaft / eta when it flows back.</li>
+<li>Reducer (ratio N, efficiency eta): T_low = N eta T_shaft when the power flows to the fan, N T_shaft / eta when it flows back. With an elastic shaft the direction is the discrete mode <code>reducer_power_flow</code>, switched at the state event where the power T_shaft N w_fan crosses zero (indicator <code>reducer_power_reversal</code>; 4 such events in the direct start's run-up), so the solver never steps across the efficiency's kink.</li>
 <li>Fan: J_fan dw_fan/dt = T_low - k_fan w_fan |w_fan|. Seen from the motor: J_fan / N<sup>2</sup> = 11.72 kg m<sup>2</sup> (eqs. 3.4-3.7).</li>
 <li>Motor torque, levels a-c: the steady-state T-equivalent circuit (R_s, L_s_sigma, L_m, L_r_sigma, R_r/s);
 level d: the dq model, stator and rotor fluxes in the synchronous frame, T = 3/2 p (psi_sd i_sq - psi_sq i_sd).

@@ -71,6 +71,8 @@ pub struct MotorFan {
     a_motor: State,
     a_shaft: State,
     a_fan: State,
+    power_flow: Mode,
+    power_reversal: Indicator,
     y_motor_speed: Output,
     y_fan_speed: Output,
     y_shaft_torque: Output,
@@ -204,7 +206,7 @@ impl MotorFan {
             op.shaft_torque = train.shaft.torque_n_m(k[self.twist], op.twist_rate);
             // The power through the reducer is the shaft torque times the reducer's own input
             // speed N w_fan (the motor side swings apart from it by the twist rate).
-            let low_torque = train.reducer.low_side_torque_n_m(op.shaft_torque, n * w_fan);
+            let low_torque = train.reducer.low_side_torque_flowing_n_m(op.shaft_torque, k[self.power_flow] >= 0);
             op.fan_acceleration = train.fan_inertia.acceleration_rad_per_s2(low_torque - fan_torque);
             if start == Start::InverseSimulation {
                 op.motor_acceleration = reference_rate;
@@ -259,6 +261,21 @@ impl MotorFan {
         }
     }
 
+    /// With an elastic shaft (levels c and d): the power into the reducer, P = T_shaft N w_fan,
+    /// and its rate dP/dt = (K dtheta/dt + D d2theta/dt2) N w_fan + T_shaft N dw_fan/dt. None
+    /// otherwise.
+    fn reducer_power(&self, k: &Knowns) -> Option<(f64, f64)> {
+        if self.level(k) < Level::Elastic || !k[self.keep_shaft_stiffness] {
+            return None;
+        }
+        let op = self.operate(k, false);
+        let (spring, n) = (self.shaft.spring(k), self.fan.reducer(k).ratio);
+        let speed = n * op.fan_speed;
+        let twist_acceleration = op.motor_acceleration - n * op.fan_acceleration;
+        let torque_rate = spring.stiffness_n_m_per_rad * op.twist_rate + spring.damping_n_m_s_per_rad * twist_acceleration;
+        Some((op.shaft_torque * speed, torque_rate * speed + op.shaft_torque * n * op.fan_acceleration))
+    }
+
     fn converter_fed(&self, train: &Train, torque: f64, speed: f64, op: &mut Operating) {
         (op.current_rms, op.electrical_power) = converter_fed(&train.motor, torque, speed);
     }
@@ -309,6 +326,13 @@ impl Model for MotorFan {
             a_motor: d.state("A_motor_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the motor inertia (eq. 3.3)"),
             a_shaft: d.state("A_shaft_stiffness", 0.0, "J").nominal(1e-3).describe("Activity of the driveshaft stiffness (eq. 3.3)"),
             a_fan: d.state("A_fan_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the fan inertia (eq. 3.3)"),
+            power_flow: d.mode("reducer_power_flow", 1).range(-1, 1).describe(
+                "Direction of the power through the reducer with an elastic shaft: 1 towards the fan (efficiency eta), -1 back (1/eta)",
+            ),
+            power_reversal: d.event_indicator(
+                "reducer_power_reversal",
+                "the power through the reducer, T_shaft N w_fan, signed positive while reducer_power_flow holds (elastic shaft only)",
+            ),
             y_motor_speed: d.output("motor_speed", "rad/s").describe("Motor speed (high-speed axis)"),
             y_fan_speed: d.output("fan_speed", "rad/s").describe("Fan speed (low-speed axis)"),
             y_shaft_torque: d.output("shaft_torque", "N.m").describe("Driveshaft torque on the high-speed axis of the reducer (Figure 3.6)"),
@@ -341,6 +365,22 @@ impl Model for MotorFan {
             return None;
         }
         self.control.ramp(k).next_kink(after)
+    }
+
+    /// The reducer's efficiency switches where the power through it reverses: with an elastic
+    /// shaft that is where the shaft torque changes sign (4 times in the direct start's run-up),
+    /// a state event, so that the solver never steps across the kink.
+    fn event_indicators(&self, k: &Knowns, z: &mut EventIndicators) {
+        z[self.power_reversal] = match self.reducer_power(k) {
+            Some((power, _)) => f64::from(k[self.power_flow].signum()) * power,
+            None => 1.0, // rigid shaft or level a: the power's direction is solved for, no event
+        };
+    }
+
+    fn update_modes(&self, k: &Knowns, next: &mut ModeUpdate) {
+        if let Some((power, rate)) = self.reducer_power(k) {
+            next[self.power_flow] = self.fan.reducer(k).next_power_flow(k[self.power_flow], power, rate);
+        }
     }
 
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {

@@ -13,9 +13,9 @@
 //! cargo run --release -p fmu-bench --bin alloc-count
 //! ```
 //!
-//! Prints one JSON object per case on stdout. A regression test would assert 0 allocations
-//! per doStep; today the runtime re-makes its solver every step, so the count is not 0 and
-//! this stays a measurement.
+//! Prints one JSON object per case on stdout, with the doSteps that handled a state event (the
+//! reducer's power reversal at levels c and d: the solver is re-made with the new mode, which
+//! allocates) counted apart from the others (steady stepping, which must not allocate).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
@@ -76,7 +76,7 @@ fn case(level: i32, steps: usize) -> Result<String, String> {
     let e = |f: fmu_runtime::instance::Failure| f.message;
     let mut inst = Instance::<MotorFan>::new("alloc-count", Logger::new(None, std::ptr::null_mut(), "alloc-count", false));
     let vr = |name: &str| inst.table().variables.iter().position(|v| v.name == name).map(|i| i as u32).ok_or(format!("no variable {name}"));
-    let (level_vr, speed_vr, torque_vr) = (vr("level")?, vr("motor_speed")?, vr("shaft_torque")?);
+    let (level_vr, speed_vr, torque_vr, events_vr) = (vr("level")?, vr("motor_speed")?, vr("shaft_torque")?, vr("state_events")?);
     inst.set::<i32>(&[level_vr], &[level]).map_err(e)?;
     inst.setup_experiment(None, 0.0, Some(30.0)).map_err(e)?;
     inst.enter_initialization_mode().map_err(e)?;
@@ -88,14 +88,23 @@ fn case(level: i32, steps: usize) -> Result<String, String> {
         inst.get::<f64>(&outputs, &mut values).map_err(e)?;
     }
     let (mut step_calls, mut step_bytes, mut get_calls, mut get_bytes) = (0, 0, 0, 0);
+    // doSteps with a state event: how many, and their allocations.
+    let (mut event_steps, mut event_calls) = (0u64, 0u64);
+    let mut events = [0i32];
     let mut failure = None;
     for i in WARM_UP..WARM_UP + steps {
+        inst.get::<i32>(&[events_vr], &mut events).map_err(e)?;
+        let events_before = events[0];
         let (c, b) = counted(|| {
             if let Err(f) = inst.do_step(i as f64 * H, H) {
                 failure = Some(f.message);
             }
         });
         (step_calls, step_bytes) = (step_calls + c, step_bytes + b);
+        inst.get::<i32>(&[events_vr], &mut events).map_err(e)?;
+        if events[0] != events_before {
+            (event_steps, event_calls) = (event_steps + 1, event_calls + c);
+        }
         let (c, b) = counted(|| {
             let _ = inst.get::<f64>(&outputs, &mut values);
         });
@@ -106,13 +115,14 @@ fn case(level: i32, steps: usize) -> Result<String, String> {
     }
     let n = steps as f64;
     Ok(format!(
-        "{{\"case\": \"MotorFan level {level}, 1 ms, default tolerance, t = {} .. {} s\", \"allocations_per_do_step\": {}, \"bytes_per_do_step\": {}, \"allocations_per_get_real\": {}, \"bytes_per_get_real\": {}}}",
+        "{{\"case\": \"MotorFan level {level}, 1 ms, default tolerance, t = {} .. {} s\", \"allocations_per_do_step\": {}, \"bytes_per_do_step\": {}, \"allocations_per_get_real\": {}, \"bytes_per_get_real\": {}, \"steps\": {steps}, \"steps_with_event\": {event_steps}, \"allocations_in_event_steps\": {event_calls}, \"allocations_in_other_steps\": {}}}",
         WARM_UP as f64 * H,
         (WARM_UP + steps) as f64 * H,
         step_calls as f64 / n,
         step_bytes as f64 / n,
         get_calls as f64 / n,
-        get_bytes as f64 / n
+        get_bytes as f64 / n,
+        step_calls - event_calls
     ))
 }
 
