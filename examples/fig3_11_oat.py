@@ -7,7 +7,10 @@ The parameter with the largest peak-torque swing is the most influential (the ch
 
 The 7 cases run in parallel: in a process pool on this machine by default, or on a Dask cluster
 with `--scheduler tcp://host:port` (dask.distributed). The FMU's bytes are sent to the workers, so
-they need only the Python packages of tests/requirements.txt, not this repository or dist/.
+they need only the Python packages of tests/requirements.txt, not this repository or dist/. Start
+workers with one thread each (`dask worker --nthreads 1 ADDRESS`; add processes with `--nworkers`):
+fmpy changes the process's working directory while it loads an FMU, so two simulations in threads
+of one process can leave it in a deleted directory.
 
     .venv/bin/python examples/fig3_11_oat.py [--short] [--out DIR] [--workers N] [--scheduler ADDRESS]
 """

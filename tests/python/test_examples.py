@@ -126,7 +126,12 @@ def test_figure_3_11_runs_on_a_dask_cluster(fmus, tmp_path):
     distributed = pytest.importorskip("distributed")
     import fig3_11_oat as oat
 
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, protocol="tcp",
+    # One worker thread (processes=False puts every worker in this process): fmpy changes the
+    # process's working directory while it loads an FMU's library and changes back afterwards, so two
+    # simulations in threads of one process race (one thread went back into the other's extracted FMU
+    # directory, which was then deleted: every later os.getcwd() in this pytest process failed). The
+    # example's docstring says the same for real workers (one thread each).
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp",
                                   dashboard_address=None) as cluster:
         address = cluster.scheduler_address
         assert address.startswith("tcp://")
