@@ -32,18 +32,9 @@ pub fn workspace_root(cargo: &std::ffi::OsStr) -> Result<PathBuf, String> {
             return Ok(parent.to_path_buf());
         }
     }
-    let out = Command::new(cargo)
-        .args(["locate-project", "--workspace", "--message-format", "plain"])
-        .output()
-        .map_err(|e| format!("could not run `cargo locate-project`: {e}"))?;
-    if !out.status.success() {
-        return Err(format!(
-            "could not find the workspace root (run this from inside the workspace, or pass \
-             --workspace DIR): {}",
-            String::from_utf8_lossy(&out.stderr).trim()
-        ));
-    }
-    let manifest = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
+    let manifest = locate_workspace_manifest(cargo, None).map_err(|stderr| {
+        format!("could not find the workspace root (run this from inside the workspace, or pass --workspace DIR): {stderr}")
+    })?;
     match manifest.parent() {
         Some(dir) if is_workspace_root(dir) => Ok(dir.to_path_buf()),
         _ => Err(format!(
@@ -124,20 +115,28 @@ pub fn model_crate_at(dir: &Path, cargo: &std::ffi::OsStr) -> Result<(ModelCrate
     if is_workspace_root(&dir) {
         return Ok((model, dir));
     }
-    let out = Command::new(cargo)
-        .current_dir(&dir)
+    let found = locate_workspace_manifest(cargo, Some(&dir)).map_err(|stderr| format!("could not find the cargo workspace of {}: {stderr}", dir.display()))?;
+    match found.parent() {
+        Some(root) => Ok((model, root.to_path_buf())),
+        None => Err(format!("could not find the cargo workspace of {}: cargo named {}", dir.display(), found.display())),
+    }
+}
+
+/// The manifest of the cargo workspace that `dir` (default: the current directory) belongs to,
+/// from `cargo locate-project --workspace`; the error is cargo's own message.
+fn locate_workspace_manifest(cargo: &std::ffi::OsStr, dir: Option<&Path>) -> Result<PathBuf, String> {
+    let mut command = Command::new(cargo);
+    if let Some(dir) = dir {
+        command.current_dir(dir);
+    }
+    let out = command
         .args(["locate-project", "--workspace", "--message-format", "plain"])
         .output()
         .map_err(|e| format!("could not run `cargo locate-project`: {e}"))?;
-    let found = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
-    match found.parent() {
-        Some(root) if out.status.success() => Ok((model, root.to_path_buf())),
-        _ => Err(format!(
-            "could not find the cargo workspace of {}: {}",
-            dir.display(),
-            String::from_utf8_lossy(&out.stderr).trim()
-        )),
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr).trim().to_string());
     }
+    Ok(PathBuf::from(String::from_utf8_lossy(&out.stdout).trim()))
 }
 
 /// Reads one member's manifest; `Some` if it builds a cdylib.
@@ -363,6 +362,24 @@ exclude = ["models/excluded"]
         );
         assert_eq!(models[1].dir, root.join("models/extra/motor-fan"));
         assert_eq!(models[0].dir, root.join("models/named"));
+    }
+
+    #[test]
+    fn a_model_crate_inside_a_users_own_workspace_builds_in_that_workspace() {
+        // A model crate without a [workspace] table of its own, a member of a larger workspace
+        // (the user's): `build-fmus build <dir>` must build it there (cargo locate-project).
+        let tmp = TempDir::new("user-workspace");
+        let root = fs::canonicalize(tmp.path()).unwrap();
+        write(&root, "Cargo.toml", "[workspace]\nresolver = \"2\"\nmembers = [\"drives/elevator\"]\n");
+        write(&root, "drives/elevator/Cargo.toml", &package("elevator", "[lib]\ncrate-type = [\"cdylib\", \"rlib\"]\n"));
+        write(&root, "drives/elevator/src/lib.rs", "// a model\n");
+        let (model, workspace) = model_crate_at(&root.join("drives/elevator"), std::ffi::OsStr::new("cargo")).unwrap();
+        assert_eq!((model.package.as_str(), model.lib_name.as_str()), ("elevator", "elevator"));
+        assert_eq!(workspace, root);
+        // Its own [workspace] table (a crate made by `build-fmus new`) makes it its own root.
+        write(&root, "alone/Cargo.toml", &format!("{}\n[workspace]\n", package("alone", "[lib]\ncrate-type = [\"cdylib\"]\n")));
+        let (_, own) = model_crate_at(&root.join("alone"), std::ffi::OsStr::new("cargo")).unwrap();
+        assert_eq!(own, root.join("alone"));
     }
 
     #[test]

@@ -79,15 +79,19 @@ without rebuilding. Values outside [min, max] are refused with fmi2Error and a m
 <p>Default experiment: {start} s to {stop} s, communication step {step} s.</p>
 <p>Each <code>fmi2DoStep</code> integrates with an adaptive {solver} with error control: relative tolerance from
 <code>fmi2SetupExperiment</code>, else {rtol}; absolute tolerance of each state {atol_factor} &times; rtol &times; its nominal value.
-Inputs are held constant over a communication step. While nothing changes between communication steps, the explicit solver
+Inputs are held over a communication step, unless the master gives their derivatives (<code>fmi2SetRealInputDerivatives</code>,
+orders 1 and 2) or the model's <code>extrapolate_inputs</code> parameter (where it has inputs) is on: each input then follows the
+line through its last two values. While nothing changes between communication steps, the explicit solver
 steps past the communication point with its own step size (never past a time event or a defined stop time) and interpolates
 the state there, so a short communication step costs little. A step that would need more than {max_steps} internal steps, or whose
 solution stops being finite, is refused with <code>fmi2Discard</code> and the instance stays at the last communication point.</p>
-<p>Model Exchange: the master's own solver integrates the same equations; the model's non-smooth instants
-(a ramp's end) are announced as time events through fmi2NewDiscreteStates.</p>
+<p>Events: the model's non-smooth instants (a ramp's end) are time events and its switching physics (where it has any)
+event indicators with discrete modes; in Co-Simulation <code>fmi2DoStep</code> stops the solver at each, updates the modes and
+restarts. Model Exchange: the master's own solver integrates the same equations; time events are announced through
+fmi2NewDiscreteStates, state events through <code>fmi2GetEventIndicators</code>.</p>
 <p>Capabilities: variable communication step size, get/set and serialize the FMU state, directional
-derivatives (central differences of the equations, 1e-7 relative step, about 1e-9 relative on smooth equations). Not (yet): input
-interpolation, output derivatives.</p>
+derivatives (central differences of the equations, 1e-7 relative step, about 1e-9 relative on smooth equations), input
+derivatives (orders 1 and 2), output derivatives (order 1).</p>
 <h2>Run it</h2>
 <pre>import fmpy
 result = fmpy.simulate_fmu("{name}.fmu", stop_time={stop}, output_interval={step})
