@@ -730,6 +730,11 @@ mod tests {
         );
         assert!(d.xml.contains(r#"<Integer min="-1" max="1"/>"#), "no start for a calculated mode: {}", d.xml);
         assert!(d.xml.contains(r#"name="state_events""#));
+        // Variable::is_mode, which the instance uses to skip mode bookkeeping: the modes, not other integers.
+        let table = crate::model::declare::<crate::test_model::Block>().2;
+        let modes: Vec<&str> = table.variables.iter().filter(|v| v.is_mode()).map(|v| v.name.as_str()).collect();
+        assert_eq!(modes, ["friction_mode", "state_events"]);
+        assert!(!crate::model::declare::<crate::test_model::Careless>().2.variables.iter().any(|v| v.is_mode()), "an integer parameter is no mode");
         // A mode is no known: no dependency names it (x=5, v=7, u=4 are; friction_mode is 9).
         for (_, deps) in d.structure.derivatives.iter().chain(&d.structure.outputs) {
             assert!(!deps.as_ref().is_some_and(|s| s.contains(&9)));

@@ -229,8 +229,7 @@ impl<M: Model> Instance<M> {
         inst.input_curvatures = vec![0.0; inst.table.n_known];
         inst.buffers.slopes = vec![0.0; inst.table.n_known];
         inst.has_inputs = inst.table.variables.iter().any(|v| v.causality == crate::variables::Causality::Input);
-        // Modes are the discrete Integer locals (Declarations::mode).
-        inst.has_modes = inst.table.variables.iter().any(|v| matches!(v.slot, Slot::Integer(_)) && v.causality == crate::variables::Causality::Local);
+        inst.has_modes = inst.table.variables.iter().any(|v| v.is_mode());
         // A model whose initial states fail at the defaults says so at initialization.
         let _ = inst.load_state_starts();
         inst

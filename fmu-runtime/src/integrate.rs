@@ -756,18 +756,18 @@ where
 /// Work vectors of [`first_crossing`], kept between calls so that the search allocates nothing:
 /// a trial state and its indicators, the state at the bracket's crossed end, and the result.
 #[derive(Default)]
-pub struct RootScratch {
+struct RootScratch {
     y_trial: Vec<f64>,
     z_trial: Vec<f64>,
     y_hi: Vec<f64>,
     /// The state just past the crossing found by the last successful search.
-    pub y_root: Vec<f64>,
+    y_root: Vec<f64>,
 }
 
 impl RootScratch {
     /// Sized for `n_states` states and `n_indicators` indicators up front, so that the first
     /// search after the integrator is made (at an event) does not allocate either.
-    pub fn new(n_states: usize, n_indicators: usize) -> Self {
+    fn new(n_states: usize, n_indicators: usize) -> Self {
         let states = || Vec::with_capacity(n_states);
         RootScratch { y_trial: states(), z_trial: Vec::with_capacity(n_indicators), y_hi: states(), y_root: states() }
     }

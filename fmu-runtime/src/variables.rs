@@ -155,6 +155,11 @@ impl Variable {
             || self.initial == Some(Initial::Exact)
     }
 
+    /// A discrete mode (`Declarations::mode`): an Integer local, changed only at events.
+    pub fn is_mode(&self) -> bool {
+        matches!(self.slot, Slot::Integer(_)) && self.causality == Causality::Local
+    }
+
     /// Settable while the instance steps (FMI 2.0 CS: inputs and tunable parameters).
     pub fn is_settable_while_stepping(&self) -> bool {
         self.causality == Causality::Input
