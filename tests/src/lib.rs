@@ -25,6 +25,8 @@
 //! - [`logger`]: the logger callback and per-instance [`LogRecord`]s;
 //! - [`ffi`]: the raw C types and function table;
 //! - [`tempdir`]: the unique temporary directory an FMU is unpacked into;
+//! - [`model_exchange`]: a strict Model Exchange master (its own Dormand-Prince integrator,
+//!   CVODE's rules for indicators at zero after an event);
 //! - [`master`]: a co-simulation master (Jacobi / Gauss-Seidel, input extrapolation, step
 //!   rejection with FMU states) coupling several instances.
 //!
@@ -39,6 +41,7 @@ pub mod instance;
 pub mod logger;
 pub mod master;
 pub mod model_description;
+pub mod model_exchange;
 pub mod state;
 pub mod tempdir;
 
