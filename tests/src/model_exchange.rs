@@ -472,7 +472,7 @@ pub fn simulate_strict<M: MeModel>(
     }
     reinit!();
     result.stats.reinitializations = 0; // the first one is the initialization
-    record_grid(model, &mut result, &mut next_grid, n_grid, &grid_time, t, &x, None, &mut y)?;
+    record_grid(model, &mut result, &mut next_grid, n_grid, &grid_time, t, &x, None, true, &mut y)?;
 
     while t < exp.stop {
         let mut t_end = exp.stop;
@@ -505,7 +505,6 @@ pub fn simulate_strict<M: MeModel>(
             h *= factor;
         };
         let (a, t1, h_taken) = attempt;
-        if std::env::var_os("ME_DEBUG").is_some() { eprintln!("step {t} -> {t1} h {h_taken} next h {h}"); }
         result.stats.accepted_steps += 1;
 
         // Indicators at the step end; crossings of active ones.
@@ -527,8 +526,6 @@ pub fn simulate_strict<M: MeModel>(
             a.dense.eval(t_ev, &mut v);
             v
         };
-        // Output points inside the step, from the dense output.
-        record_grid(model, &mut result, &mut next_grid, n_grid, &grid_time, t_ev, &x_ev, Some(&a.dense), &mut y)?;
         // Deactivated indicators come back once non-zero.
         if state_event.is_none() {
             for i in 0..nz {
@@ -546,13 +543,18 @@ pub fn simulate_strict<M: MeModel>(
         if terminate {
             break;
         }
+        let time_event = t_next.is_some_and(|te| t_ev >= te);
+        let event = enter_event_mode || time_event || state_event.is_some();
+        // Output points inside the step, from the dense output.
+        record_grid(model, &mut result, &mut next_grid, n_grid, &grid_time, t_ev, &x_ev, Some(&a.dense), !event, &mut y)?;
         t = t_ev;
         x = x_ev;
         f0 = if state_event.is_none() { a.f1.clone() } else { f0 };
-        let time_event = t_next.is_some_and(|te| t >= te);
-        if !(enter_event_mode || time_event || state_event.is_some()) {
+        if !event {
             continue;
         }
+        check(model.set_time(t), "fmi2SetTime", t)?;
+        check(model.set_continuous_states(&x), "fmi2SetContinuousStates", t)?;
         if events_here.0 == t {
             events_here.1 += 1;
             if events_here.1 > MAX_EVENTS_AT_ONE_TIME {
@@ -627,11 +629,12 @@ pub fn simulate_strict<M: MeModel>(
             // controller had; its history is the step just taken.
             h = h.min(h_taken.max(ttol(t, h_taken) * 1e3));
         }
-        let row = {
-            check(model.outputs(&mut y), "fmi2GetReal", t)?;
-            y.clone()
-        };
-        result.event_rows.push(row);
+        // An output point at the event time, after the event.
+        record_grid(model, &mut result, &mut next_grid, n_grid, &grid_time, t, &x, None, true, &mut y)?;
+        check(model.set_time(t), "fmi2SetTime", t)?;
+        check(model.set_continuous_states(&x), "fmi2SetContinuousStates", t)?;
+        check(model.outputs(&mut y), "fmi2GetReal", t)?;
+        result.event_rows.push(y.clone());
     }
     result.stats.derivative_evaluations = rhs_evals;
     Ok(result)
@@ -669,6 +672,9 @@ fn initial_step(x: &[f64], f: &[f64], atol: &[f64], rtol: f64, span: f64) -> f64
     h0.min(span).max(1e-12 * span.max(1.0))
 }
 
+/// Records the output points in (t of the last record, t_end) from the dense output, and the one
+/// at t_end if `include_end` (not when an event is handled at t_end: that point is recorded after
+/// the event, as CS reports a communication point that coincides with an event).
 #[allow(clippy::too_many_arguments)]
 fn record_grid<M: MeModel>(
     model: &mut M,
@@ -679,31 +685,27 @@ fn record_grid<M: MeModel>(
     t_end: f64,
     x_end: &[f64],
     dense: Option<&Dense>,
+    include_end: bool,
     y: &mut [f64],
 ) -> Result<(), MeError> {
     let mut xs = vec![0.0; x_end.len()];
-    let mut moved = false;
     while *next < n_grid {
         let tg = grid_time(*next);
-        let tol = 1e-9 * (tg.abs() + 1e-12).max(1e-300);
-        if tg > t_end + tol {
+        if tg > t_end || (tg == t_end && !include_end) {
             break;
         }
-        let at_end = (tg - t_end).abs() <= tol || dense.is_none();
-        if at_end {
+        if tg == t_end {
             xs.copy_from_slice(x_end);
         } else {
-            dense.expect("a step").eval(tg, &mut xs);
+            dense.expect("an output point before t_end lies in the step just taken").eval(tg, &mut xs);
         }
-        check(model.set_time(if at_end { t_end } else { tg }), "fmi2SetTime", tg)?;
+        check(model.set_time(tg), "fmi2SetTime", tg)?;
         check(model.set_continuous_states(&xs), "fmi2SetContinuousStates", tg)?;
         check(model.outputs(y), "fmi2GetReal", tg)?;
         result.grid_times.push(tg);
         result.grid.push(y.to_vec());
         *next += 1;
-        moved = true;
     }
-    let _ = moved;
     Ok(())
 }
 
