@@ -10,21 +10,30 @@
 //!
 //! The agreement bound, per Real output y and tolerance rtol:
 //!
-//!   max_t |y_ME(t) - y_CS(t)| <= K rtol (range_CS(y) + 1e-6 nominal) + 1e3 eps max|y|,
-//!   K = max(K_MIN, 2 N),  K_MIN = 200,  N = the ME run's accepted steps.
+//!   max_t |y_ME(t) - y_CS(t)| <= K rtol (range_CS(y) + 1e-6 nominal) + 1e3 eps max|y|
 //!
-//! Why: each solver keeps the local error of every step below rtol times the state's magnitude
-//! (plus rtol times its nominal value). In the worst case — a component that does not contract,
-//! such as an activity integral of |P| — the global error is the sum of the local errors, N rtol
-//! |y|, and the two runs can err in opposite directions: 2 N, counting CS's internal steps
-//! (which FMI does not report) as many as ME's. For the dissipative components the error is
-//! forgotten over the slowest time constant, so a fixed K_MIN covers them: a 5th-order method
-//! with error-per-step control accumulates ~10-50 rtol of a state's range over the steps of one
-//! time constant (the oscillator unit test of the master measures 2-10 rtol over 1.6 periods),
-//! x2 for two solvers, x2 because an output is compared against its range while the states'
-//! errors scale with their magnitude. The 1e3 eps max|y| term is the round-off floor that
-//! matters at 1e-8 for outputs with a large offset and a small range. The measured ratio
-//! |y_ME - y_CS| / (rtol range) is printed for every output, so the margin is visible.
+//! over the output points that are not within one output interval of an ME event (an output
+//! with a jump differs by the jump between two event times that differ by round-off of the
+//! located roots; the event times are compared separately, below). K:
+//!
+//! * K_MIN = 1000 for an output of the dynamics. Each solver keeps the local error of every step
+//!   below rtol times the state's magnitude (plus rtol times its nominal value); for these
+//!   dissipative models the error is forgotten over the slowest time constant, and a 5th-order
+//!   method with error-per-step control accumulates ~10-50 rtol of a state's range over it (the
+//!   oscillator unit test of the master measures 2-10 rtol over 1.6 periods); x2 for two
+//!   independent solvers that can err in opposite directions; x10 for outputs that are a small
+//!   balance of large terms (a stuck seal's holding torque is the balance of torques ~100 times
+//!   its range, a motor torque k I follows a stiff current).
+//! * max(K_MIN, 4 N), N = the ME run's accepted steps, for an activity output (its description
+//!   says "activity": an integral of |power| or a share of such integrals). An integral does not
+//!   contract: its global error is up to the sum of the local errors, N rtol |y|; the other
+//!   solver adds as much (CS's internal steps, which FMI does not report, counted as many as
+//!   ME's): 2 N; and the integrand has kinks (|P| where P changes sign) that no event marks, where
+//!   a step's actual local error exceeds the embedded pair's estimate: x2.
+//!
+//! The 1e3 eps max|y| term is the round-off floor that matters at 1e-8 for outputs with a large
+//! offset and a small range. The measured ratio |y_ME - y_CS| / (rtol range) is printed for every
+//! output, so the margin is visible.
 //!
 //! Events: where an FMU declares `state_events` (the Integer local counting handled state
 //! events) its value at the end of the ME and CS runs must be equal, and every ME state event
@@ -42,7 +51,7 @@ use fmi_host::{Fmu, ValueReference};
 
 const TOLERANCES: [f64; 3] = [1e-4, 1e-6, 1e-8];
 /// See the module comment.
-const K_MIN: f64 = 200.0;
+const K_MIN: f64 = 1000.0;
 
 const MOTOR_FAN_STOP_TIME: f64 = 15.0;
 const MOTOR_FAN_CONFIGURATIONS: &[(&str, &[(&str, f64)])] = &[
@@ -141,7 +150,13 @@ fn run_case(case: &Case) -> Outcome {
     };
 
     // Outputs on the grid.
-    let k_factor = K_MIN.max(2.0 * me.stats.accepted_steps as f64);
+    let k_activity = K_MIN.max(4.0 * me.stats.accepted_steps as f64);
+    // Output points within one interval of an ME event are left out (module comment).
+    let near_event: Vec<bool> = cs_t
+        .iter()
+        .map(|t| me.events.iter().any(|e| (e.time - t).abs() <= exp.output_interval * (1.0 + 1e-9)))
+        .collect();
+    let left_out = near_event.iter().filter(|b| **b).count();
     if me.grid_times.len() != cs_t.len() {
         failures.push(format!("ME has {} output points, CS {}", me.grid_times.len(), cs_t.len()));
     }
@@ -151,9 +166,19 @@ fn run_case(case: &Case) -> Outcome {
         let peak = lo.abs().max(hi.abs());
         let range = hi - lo;
         let nominal_floor = case.fmu.variable(name).ok().and_then(|v| v.nominal).unwrap_or(0.0).abs() * 1e-6;
+        let activity = case
+            .fmu
+            .variable(name)
+            .ok()
+            .and_then(|v| v.description.as_deref())
+            .is_some_and(|d| d.to_lowercase().contains("activity"));
+        let k_factor = if activity { k_activity } else { K_MIN };
         let bound = k_factor * exp.rtol * (range + nominal_floor) + 1e3 * f64::EPSILON * peak;
         let mut worst = (0.0f64, 0usize);
         for (k, row) in me.grid.iter().enumerate().take(cs_y.len()) {
+            if near_event[k] {
+                continue;
+            }
             let d = (row[j] - cs_y[k][j]).abs();
             if !d.is_finite() || d > worst.0 || d.is_nan() {
                 worst = (if d.is_finite() { d } else { f64::INFINITY }, k);
@@ -233,8 +258,8 @@ fn run_case(case: &Case) -> Outcome {
     table.insert(
         0,
         format!(
-            "  {} rtol {:.0e}: ME {:.2} s ({} steps, {} rejected, {} derivative evaluations), CS {:.2} s",
-            case.label, exp.rtol, seconds_me, me.stats.accepted_steps, me.stats.rejected_steps, me.stats.derivative_evaluations, seconds_cs
+            "  {} rtol {:.0e}: ME {:.2} s ({} steps, {} rejected, {} derivative evaluations), CS {:.2} s; K {K_MIN} (activity {k_activity}); {left_out} of {} points next to events left out",
+            case.label, exp.rtol, seconds_me, me.stats.accepted_steps, me.stats.rejected_steps, me.stats.derivative_evaluations, seconds_cs, cs_t.len()
         ),
     );
     Outcome { label: case.label.clone(), rtol: exp.rtol, seconds_me, seconds_cs, table, event_row, failures }
