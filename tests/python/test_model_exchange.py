@@ -75,13 +75,19 @@ def start_time(md) -> float:
 
 
 def simulate(fmu, fmi_type: str, stop_time: float, output_interval: float, start_values: dict,
-             me_tolerance: float = ME_RELATIVE_TOLERANCE, cs_tolerance: float | None = None):
+             me_tolerance: float = ME_RELATIVE_TOLERANCE, cs_tolerance: float | None = None,
+             calls: dict | None = None):
     """(fmpy result, wall-clock seconds) of one run: ME with CVode at me_tolerance, CS at
-    cs_tolerance (None: the FMU's default)."""
+    cs_tolerance (None: the FMU's default). `calls`: counts each fmi2 function called (ME)."""
     key = _fmu_key(fmu)
     md = _model_description(key)
     if fmi_type == "ModelExchange":
         extra = {"solver": "CVode", "relative_tolerance": me_tolerance, "record_events": False}
+        if calls is not None:
+            def count(message, calls=calls):
+                name = message.split("(", 1)[0].strip()
+                calls[name] = calls.get(name, 0) + 1
+            extra["fmi_call_logger"] = count
     else:
         extra = {} if cs_tolerance is None else {"relative_tolerance": cs_tolerance}
     t0 = time.perf_counter()
@@ -101,10 +107,11 @@ def simulate(fmu, fmi_type: str, stop_time: float, output_interval: float, start
 
 
 def compare(fmu, label: str, stop_time: float, output_interval: float, start_values: dict,
-            tolerance: float | None = None, rel_tol: float = REL_TOL):
+            tolerance: float | None = None, rel_tol: float = REL_TOL, activity_rel_tol=None):
     """Simulates ME and CS, returns (table text, list of failures). tolerance None: ME at
     ME_RELATIVE_TOLERANCE, CS at its default; else both at `tolerance`. An output fails where
-    |ME - CS| > rel_tol x its range."""
+    |ME - CS| > rel_tol x its range; an activity output (description says "activity") where it
+    exceeds activity_rel_tol(ME calls) x its range, if given."""
     md = _model_description(_fmu_key(fmu))
     assert md.coSimulation is not None, f"{fmu.name} has no <CoSimulation> element"
     assert md.modelExchange is not None, (
@@ -118,7 +125,10 @@ def compare(fmu, label: str, stop_time: float, output_interval: float, start_val
 
     me_tol = ME_RELATIVE_TOLERANCE if tolerance is None else tolerance
     cs, cs_seconds = simulate(fmu, "CoSimulation", stop_time, output_interval, start_values, cs_tolerance=tolerance)
-    me, me_seconds = simulate(fmu, "ModelExchange", stop_time, output_interval, start_values, me_tolerance=me_tol)
+    calls: dict = {}
+    me, me_seconds = simulate(fmu, "ModelExchange", stop_time, output_interval, start_values, me_tolerance=me_tol,
+                              calls=calls if activity_rel_tol is not None else None)
+    descriptions = {v.name: (v.description or "") for v in md.modelVariables}
 
     start = start_time(md)
     n_expected = int(round((stop_time - start) / output_interval)) + 1
@@ -150,12 +160,15 @@ def compare(fmu, label: str, stop_time: float, output_interval: float, start_val
         diff = np.abs(y_me - y_cs)
         k = int(np.argmax(diff))
         rel = float(diff[k] / scale)
-        flag = "" if rel <= rel_tol else "  <-- FAIL"
-        rows.append(f"  {name:<28} {span:12.5g} {diff[k]:12.4g} {rel:10.2e} {t_cs[k]:9.4f}{flag}")
-        if rel > rel_tol:
+        limit = rel_tol
+        if activity_rel_tol is not None and "activity" in descriptions.get(name, "").lower():
+            limit = max(rel_tol, activity_rel_tol(calls))
+        flag = "" if rel <= limit else "  <-- FAIL"
+        rows.append(f"  {name:<28} {span:12.5g} {diff[k]:12.4g} {rel:10.2e} {t_cs[k]:9.4f} (limit {limit:.2e}){flag}")
+        if rel > limit:
             failures.append(
                 f"{name}: |ME - CS| = {diff[k]:.4g} at t = {t_cs[k]:.6g} s (ME {y_me[k]:.10g}, CS {y_cs[k]:.10g}), "
-                f"{rel:.3g} of its range {span:.5g} > {rel_tol:g}"
+                f"{rel:.3g} of its range {span:.5g} > {limit:g}"
             )
     table = "\n".join(rows)
     REPORT.append(table)
@@ -187,21 +200,24 @@ def test_motor_fan_model_exchange_matches_co_simulation(config):
 # Both runs get the same relative tolerance (CVode's, with fmpy's absolute tolerance rtol x the
 # states' nominals; the FMU's own solver through fmi2SetupExperiment). Bound, per Real output:
 #
-#     max_t |y_ME(t) - y_CS(t)| <= SWEEP_K * rtol * range_CS(y)
+#     max_t |y_ME(t) - y_CS(t)| <= K * rtol * range_CS(y)
 #
-# SWEEP_K = 2000: each solver keeps its local error per step below rtol times the states'
-# magnitude; where a component does not contract (the activity integrals of |P|) the global error
-# is up to the sum of the local errors, N rtol |y| over N steps, and the two solvers can err in
-# opposite directions (2 N). CVode's step count is not visible through fmpy; BDF at these
-# tolerances takes several hundred steps on these models' transients (the native strict master
-# of tests/tests/model_exchange_strict.rs takes 100-3500 with a 5th-order method, and uses its
-# own count), so 2 x ~1000 = 2000. The measured |ME - CS| / range is printed for every output.
+# K = SWEEP_K = 1000 for an output of the dynamics: the argument of
+# tests/tests/model_exchange_strict.rs (each solver's error forgotten over the slowest time
+# constant, ~10-50 rtol of a state's range; x2 for two solvers; x10 for outputs that balance large
+# terms). For an activity output (its description says "activity": an integral of |power| or a
+# share of such integrals) K = max(SWEEP_K, 8 N): an integral does not contract, its global error
+# is up to the sum of the local errors, N rtol |y|, as much again from the other solver, x2 for the
+# kinks of |P| that no event marks (the native master's 4 N), and x2 more for CVode's BDF, whose
+# error estimate comes from a polynomial through past steps that a kink has already spoiled. N:
+# the number of fmi2GetDerivatives calls of the ME run (~ CVode's steps), counted through fmpy's
+# call logger.
 #
 # Cost: the output grid is coarsened to at most SWEEP_POINTS points (a multiple of stepSize;
 # events are located by CVode and the FMU regardless of the grid), so the sweep adds little to CI.
 
 SWEEP_TOLERANCES = (1e-4, 1e-6, 1e-8)
-SWEEP_K = 2000.0
+SWEEP_K = 1000.0
 SWEEP_POINTS = 2000
 
 
@@ -223,5 +239,6 @@ def test_model_exchange_matches_co_simulation_at_the_same_tolerance(fmu_path, to
     table, failures = compare(
         fmu_path, f"default experiment, grid {interval:g} s", stop, interval, {},
         tolerance=tolerance, rel_tol=SWEEP_K * tolerance,
+        activity_rel_tol=lambda calls: 8.0 * calls.get("fmi2GetDerivatives", 0) * tolerance,
     )
     assert not failures, "ME and CS disagree:\n" + "\n".join(failures) + "\n" + table
