@@ -8,6 +8,11 @@ communication step), and every Real output (causality="output") must agree at ev
 
     |y_ME(t) - y_CS(t)| <= REL_TOL * max(max(y_CS) - min(y_CS), ABS_FLOOR)   for every t
 
+A second test runs every FMU in ME (CVode) and CS at the same tolerance, 1e-4, 1e-6 and 1e-8, with a
+bound that scales with the tolerance (see "ME and CS at the same tolerance" below). fmpy's ME loop
+re-initializes CVode after every event, so an FMU that leaves an event indicator at zero after an
+event passes here; tests/tests/model_exchange_strict.rs runs a strict master that does not.
+
 MotorFan is also run in configurations its default experiment does not reach (level d
 direct-on-line, level c with the PI start and with inverse simulation, level a), over 0-15 s.
 
