@@ -122,7 +122,8 @@ pub struct EventInfo {
     pub new_discrete_states_needed: bool,
     pub terminate_simulation: bool,
     pub nominals_changed: bool,
-    /// valuesOfContinuousStatesChanged: a mode update re-initialized a state.
+    /// valuesOfContinuousStatesChanged: a mode update changed a mode or re-initialized a state
+    /// (the master must restart its integrator).
     pub values_changed: bool,
     pub next_event_time: Option<f64>,
 }
@@ -816,8 +817,16 @@ impl<M: Model> Instance<M> {
     }
 
     /// fmi2NewDiscreteStates: the model's modes are updated until they settle (so one call
-    /// suffices: newDiscreteStatesNeeded is false); valuesOfContinuousStatesChanged when the
-    /// update re-initialized a state; the next time event is the model's next kink after now.
+    /// suffices: newDiscreteStatesNeeded is false); the next time event is the model's next kink
+    /// after now.
+    ///
+    /// valuesOfContinuousStatesChanged is reported whenever a mode or a state changed, not only
+    /// when a state was re-initialized (docs/DESIGN.md, "Model Exchange events any integrator
+    /// survives"): a new mode changes the right-hand side, and its indicator may start exactly
+    /// at zero (a stuck body breaking loose has speed 0, the indicator of its slipping mode). A
+    /// master that keeps its integrator's history would then find a root at its restart point
+    /// (CVODE: "root found at and very near t"); told that the states changed, it restarts, and
+    /// a zero at the start of an integration is no crossing.
     pub fn new_discrete_states(&mut self) -> CallResult<EventInfo> {
         let (known, mut x) = (self.values.known.clone(), self.states.clone());
         let (modes_changed, states_changed) = self.settle_modes(self.time, &known, &mut x).map_err(Failure::error)?;
@@ -835,7 +844,7 @@ impl<M: Model> Instance<M> {
         let v = &self.values;
         let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
         let next_event_time = self.model.next_time_event(&k, self.time);
-        Ok(EventInfo { next_event_time, values_changed: states_changed, ..EventInfo::default() })
+        Ok(EventInfo { next_event_time, values_changed: modes_changed || states_changed, ..EventInfo::default() })
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> CallResult {
@@ -1492,6 +1501,38 @@ mod tests {
         let mut dx = [1.0; 2];
         i.get_derivatives(&mut dx).unwrap();
         assert_eq!(dx, [0.0, 0.0]);
+    }
+
+    /// The Model Exchange rule (docs/DESIGN.md, "Model Exchange events any integrator survives"):
+    /// after an event that changed a mode, either the FMU says the continuous states changed (the
+    /// master restarts its integrator) or no indicator sits at zero. A block stuck at rest that an
+    /// applied force breaks loose slips from v = 0: its new indicator, mode x v, is exactly 0.
+    #[test]
+    fn a_mode_switch_whose_indicator_starts_at_zero_tells_the_master_to_restart() {
+        let mut i = Instance::<crate::test_model::Block>::for_interface(Interface::ModelExchange, "{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        i.setup_experiment(Some(1e-4), 0.0, None).unwrap();
+        i.enter_initialization_mode().unwrap();
+        let v = i.table().by_name("v").unwrap().value_reference;
+        i.set(&[v], &[0.0]).unwrap();
+        i.exit_initialization_mode().unwrap();
+        assert_eq!(named(&mut i, "friction_mode"), 0.0, "at rest with no force: stuck");
+        assert!(!i.new_discrete_states().unwrap().values_changed, "nothing changed");
+        i.enter_continuous_time_mode().unwrap();
+        // The force rises past the static friction (F_s = 2 N m): the stuck margin crosses zero.
+        let u = i.table().by_name("u").unwrap().value_reference;
+        i.set_time(0.5).unwrap();
+        i.set(&[u], &[2.5]).unwrap();
+        let mut z = [0.0];
+        i.get_event_indicators(&mut z).unwrap();
+        assert!(z[0] < 0.0, "the master sees the crossing: {z:?}");
+        i.enter_event_mode().unwrap();
+        let info = i.new_discrete_states().unwrap();
+        assert_eq!(named(&mut i, "friction_mode"), 1.0, "slipping forwards");
+        i.get_event_indicators(&mut z).unwrap();
+        assert_eq!(z, [0.0], "the slipping mode's indicator, v = 0, starts exactly at zero");
+        assert!(info.values_changed, "so the master must be told to restart its integrator: {info:?}");
+        // And no mode change, no restart: a second event iteration changes nothing.
+        assert!(!i.new_discrete_states().unwrap().values_changed);
     }
 
     /// Steps `a` from `*t` by `h`, and again a twin restored from `a`'s serialized state of

@@ -701,6 +701,16 @@ impl RealBuilder<'_, Parameter> {
     }
 }
 
+impl RealBuilder<'_, Output> {
+    /// An output that changes only at events (FMI `variability="discrete"`): computed from the
+    /// discrete modes alone, such as a latch's state, so that a Model Exchange master may take
+    /// it as constant between events.
+    pub fn discrete(mut self) -> Self {
+        self.var().variability = Variability::Discrete;
+        self
+    }
+}
+
 /// Finishes an integer parameter's declaration.
 pub struct IntegerBuilder<'a> {
     decl: &'a mut Declarations,

@@ -14,6 +14,8 @@ pub struct Fan {
     w: State,
     angle: State,
     activity: State,
+    power_flow: Mode,
+    power_reversal: Indicator,
     y_speed_high: Output,
     y_angle_high: Output,
     y_fan_speed: Output,
@@ -23,7 +25,9 @@ pub struct Fan {
 
 const DOCUMENTATION: &str = r#"
 <p>The fan of the cooling tower (chapter 3, Figure 3.2) with its reducer as a subsystem: the torque on the reducer's
-high-speed shaft reaches the fan as N eta T when the power flows to the fan and N T / eta when it flows back;
+high-speed shaft reaches the fan as N eta T when the power flows to the fan and N T / eta when it flows back
+(the direction is the discrete mode <code>reducer_power_flow</code>, switched at a state event where the power
+T N w changes sign, as in MotorFan);
 J_fan dw/dt = T_low - k_fan w |w|. Seen from the high-speed axis the fan inertia is J_fan / N<sup>2</sup> = 11.72 kg m<sup>2</sup>
 (eqs. 3.4-3.7).</p>
 <p>Coupling: torque in, angle and speed out. Connect DriveShaft.torque to <code>shaft_torque</code>, and
@@ -31,6 +35,15 @@ J_fan dw/dt = T_low - k_fan w |w|. Seen from the high-speed axis the fan inertia
 DriveShaft.angle_b and speed_b. Input derivatives and first output
 derivatives are supported for extrapolating masters.</p>
 "#;
+
+impl Fan {
+    /// J_fan dw/dt = T_low - k w |w|, T_low through the reducer in the current power direction.
+    fn acceleration(&self, k: &Knowns) -> f64 {
+        let reducer = self.fan.reducer(k);
+        let low_torque = reducer.low_side_torque_flowing_n_m(k[self.shaft_torque], k[self.power_flow] >= 0);
+        self.fan.inertia(k).acceleration_rad_per_s2(low_torque - self.fan.load(k).torque_n_m(k[self.w]))
+    }
+}
 
 impl Model for Fan {
     fn info() -> ModelInfo {
@@ -55,6 +68,13 @@ impl Model for Fan {
             w: d.state("w_fan", 0.0, "rad/s").nominal(10.0).describe("Fan speed (low-speed side)"),
             angle: d.state("phi_fan", 0.0, "rad").nominal(10.0).describe("Fan angle (low-speed side)"),
             activity: d.state("A_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the fan inertia (eq. 3.3)"),
+            power_flow: d.mode("reducer_power_flow", 1).range(-1, 1).describe(
+                "Direction of the power through the reducer: 1 towards the fan (efficiency eta), -1 back (1/eta)",
+            ),
+            power_reversal: d.event_indicator(
+                "reducer_power_reversal",
+                "the power through the reducer, shaft_torque N w_fan, signed positive while reducer_power_flow holds",
+            ),
             y_speed_high: d.output("speed_high", "rad/s").describe("Reducer input speed on the high-speed axis, N x fan speed"),
             y_angle_high: d.output("angle_high", "rad").describe("Reducer input angle on the high-speed axis, N x fan angle"),
             y_fan_speed: d.output("fan_speed", "rad/s").describe("Fan speed (low-speed side)"),
@@ -63,10 +83,26 @@ impl Model for Fan {
         }
     }
 
+    /// The reducer's efficiency switches where the power through it reverses: a state event, as
+    /// in MotorFan (the same `Reducer` rules from `components`), so the coupled system and the
+    /// monolithic FMU integrate the same reducer and no solver step straddles the kink.
+    fn event_indicators(&self, k: &Knowns, z: &mut EventIndicators) {
+        let reducer = self.fan.reducer(k);
+        z[self.power_reversal] = reducer.power_flow_indicator(k[self.power_flow], k[self.shaft_torque], reducer.ratio * k[self.w]);
+    }
+
+    /// At P = T N w = 0 the direction follows dP/dt; the input's own rate is unknown to the
+    /// model, so dP/dt is taken as T N dw/dt (at rest with no torque the mode holds).
+    fn update_modes(&self, k: &Knowns, next: &mut ModeUpdate) {
+        let reducer = self.fan.reducer(k);
+        let (torque, speed) = (k[self.shaft_torque], reducer.ratio * k[self.w]);
+        let rate = torque * reducer.ratio * self.acceleration(k);
+        next[self.power_flow] = reducer.next_power_flow(k[self.power_flow], torque * speed, rate);
+    }
+
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
-        let (reducer, inertia, w) = (self.fan.reducer(k), self.fan.inertia(k), k[self.w]);
-        let low_torque = reducer.low_side_torque_n_m(k[self.shaft_torque], reducer.ratio * w);
-        let acceleration = inertia.acceleration_rad_per_s2(low_torque - self.fan.load(k).torque_n_m(w));
+        let (inertia, w) = (self.fan.inertia(k), k[self.w]);
+        let acceleration = self.acceleration(k);
         der[self.w] = acceleration;
         der[self.angle] = w;
         der[self.activity] = activity_rate(inertia.power_w(acceleration, w));

@@ -55,8 +55,13 @@ parameter selects; the outputs themselves do not change meaning.</p>
 T_insulation_limit - T_winding.</li>
 <li><code>time_to_limit</code>: the time from the start of the simulation at which the winding first reached the
 limit, latched (it does not move if the winding cools again); while <code>limit_reached</code> = 0 it is the time
-elapsed so far, a lower bound. It is integrated as a state (1 s/s until the limit), so it is exact to the
-solver's tolerance, whatever the communication step.</li>
+elapsed so far, a lower bound. The limit is a state event: the event indicator T_insulation_limit - T_winding
+crosses zero there, located inside <code>fmi2DoStep</code> in Co-Simulation and by the master's root finder in
+Model Exchange, and the discrete mode <code>limit_latch</code> is set at that instant. <code>time_to_limit</code>
+is a state growing at 1 s/s until the latch is set (a constant rate, integrated exactly), so it stops at the
+event time itself, whatever the communication step.</li>
+<li><code>limit_reached</code>: the latch (0 or 1), a discrete output: it changes only at the event, never before
+the winding reaches the limit.</li>
 <li><code>torque</code> and <code>P_joule</code>: the load. <code>heat_source</code> = 2 takes the torque from the
 input <code>torque_in</code> (another FMU's torque output, P_J = P_J,nom (C/C_nom)<sup>2</sup>, both signs heat),
 3 takes the losses directly from <code>P_joule_in</code>.</li>

@@ -68,8 +68,9 @@ pub struct TractionMotorThermal {
     ambient: Input,
     t_winding: State,
     t_iron: State,
-    over_limit: State,
     time_below_limit: State,
+    limit_latch: Mode,
+    limit_crossing: Indicator,
     y_t_winding: Output,
     y_t_iron: Output,
     y_margin: Output,
@@ -111,6 +112,10 @@ impl TractionMotorThermal {
             winding_to_iron: ThermalConductance::from_operating_point(losses, insulation_drop),
             iron_to_ambient: ThermalConductance::from_operating_point(losses, k[self.winding_rise_nominal] - insulation_drop),
         }
+    }
+
+    fn latched(&self, k: &Knowns) -> bool {
+        k[self.limit_latch] == 1
     }
 
     fn two_nodes(&self, k: &Knowns) -> bool {
@@ -170,13 +175,17 @@ impl Model for TractionMotorThermal {
             ambient: d.input("T_ambient", 313.15, "K").min(0.0).describe("Ambient (cooling air) temperature (section 3.5.1: 40 C)"),
             t_winding: d.calculated_state("T_winding_state", "K").nominal(400.0).describe("Winding temperature (state; starts at ambient or at the nominal steady state, see initial_state)"),
             t_iron: d.calculated_state("T_iron_state", "K").nominal(400.0).describe("Iron core temperature (state; equals the winding's in the one-node model)"),
-            over_limit: d.state("over_limit_integral", 0.0, "K.s").nominal(1000.0).describe("Integral of the winding temperature above the insulation limit: positive once the limit has been exceeded (latches time_to_limit)"),
-            time_below_limit: d.state("time_below_limit", 0.0, "s").nominal(1000.0).describe("Time spent before the winding first reached the insulation limit"),
+            time_below_limit: d.state("time_below_limit", 0.0, "s").nominal(1000.0).describe("Time spent before the winding first reached the insulation limit: grows at 1 s/s until limit_latch is set, then holds (integrated exactly: its rate is constant)"),
+            limit_latch: d.mode("limit_latch", 0).range(0, 1).describe("1 from the state event at which the winding first reaches T_insulation_limit on (never reset), else 0"),
+            limit_crossing: d.event_indicator(
+                "insulation_limit",
+                "T_insulation_limit - T_winding while limit_latch = 0 (its zero is the first time the winding reaches the limit); 1 once latched",
+            ),
             y_t_winding: d.output("T_winding", "K").describe("Winding temperature"),
             y_t_iron: d.output("T_iron", "K").describe("Iron core temperature (one-node model: the body temperature)"),
             y_margin: d.output("margin_to_limit", "K").describe("T_insulation_limit - T_winding: negative beyond the limit"),
             y_time_to_limit: d.output("time_to_limit", "s").describe("Time from the start of the simulation at which the winding first reached T_insulation_limit; while limit_reached = 0, the time elapsed so far (a lower bound)"),
-            y_limit_reached: d.output("limit_reached", "1").describe("1 once the winding has reached T_insulation_limit, else 0"),
+            y_limit_reached: d.output("limit_reached", "1").discrete().describe("1 from the instant the winding first reaches T_insulation_limit on (a state event), else 0"),
             y_torque: d.output("torque", "N.m").describe("Motor torque producing the losses (0 with heat_source = 3, where the losses are given directly)"),
             y_losses: d.output("P_joule", "W").describe("Joule losses heating the winding"),
             c_winding: d.calculated_parameter("C_winding", "J/K").describe("Heat capacity of the winding, m_winding c_winding"),
@@ -201,6 +210,22 @@ impl Model for TractionMotorThermal {
 
     fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
         (HeatSource::of(k[self.heat_source]) == HeatSource::PowerStep && k[self.t_step] > after).then_some(k[self.t_step])
+    }
+
+    /// The insulation limit is a state event: while unlatched, the indicator is the margin
+    /// T_limit - T_winding, positive below the limit; its zero (located by the solver in
+    /// Co-Simulation, by the master in Model Exchange) sets the latch, and `time_below_limit`
+    /// stops there. Latched, the indicator is a constant 1: no more events.
+    fn event_indicators(&self, k: &Knowns, z: &mut EventIndicators) {
+        z[self.limit_crossing] = if self.latched(k) { 1.0 } else { k[self.insulation_limit] - k[self.t_winding] };
+    }
+
+    /// Latches when the winding is at or above the limit (the indicator <= 0: the event point
+    /// may sit exactly on the zero); never unlatches.
+    fn update_modes(&self, k: &Knowns, next: &mut ModeUpdate) {
+        if !self.latched(k) && k[self.t_winding] >= k[self.insulation_limit] {
+            next[self.limit_latch] = 1;
+        }
     }
 
     fn initial_states(&self, k: &Knowns, x0: &mut InitialStates) {
@@ -233,9 +258,7 @@ impl Model for TractionMotorThermal {
             der[self.t_winding] = rate;
             der[self.t_iron] = rate;
         }
-        let limit = k[self.insulation_limit];
-        der[self.over_limit] = (winding - limit).max(0.0);
-        der[self.time_below_limit] = if winding < limit && k[self.over_limit] <= 0.0 { 1.0 } else { 0.0 };
+        der[self.time_below_limit] = if self.latched(k) { 0.0 } else { 1.0 };
     }
 
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
@@ -247,7 +270,7 @@ impl Model for TractionMotorThermal {
         out[self.y_t_iron] = k[self.t_iron];
         out[self.y_margin] = limit - winding;
         out[self.y_time_to_limit] = k[self.time_below_limit];
-        out[self.y_limit_reached] = if winding >= limit || k[self.over_limit] > 0.0 { 1.0 } else { 0.0 };
+        out[self.y_limit_reached] = if self.latched(k) { 1.0 } else { 0.0 };
         out[self.y_torque] = self.torque_n_m(k);
         out[self.y_losses] = self.joule_losses_w(k);
         out[self.c_winding] = n.winding.heat_capacity_j_per_k;
