@@ -597,7 +597,12 @@ fn write_xml<M: Model>(table: &VariableTable, structure: &Structure) -> String {
     empty(
         &mut w,
         "DefaultExperiment",
-        &[("startTime", real_text(e.start_time)), ("stopTime", real_text(e.stop_time)), ("stepSize", real_text(e.step_size))],
+        &[
+            ("startTime", real_text(e.start_time)),
+            ("stopTime", real_text(e.stop_time)),
+            ("tolerance", real_text(crate::integrate::declared_tolerance(M::tolerance_floor()))),
+            ("stepSize", real_text(e.step_size)),
+        ],
     );
     open(&mut w, "ModelVariables", &[]);
     for v in &table.variables {

@@ -2,7 +2,7 @@
 //! generated tables of every variable, the default experiment, the solver and how to run it.
 
 use crate::description::{real_text, ModelDescription};
-use crate::integrate::{ABSOLUTE_PER_RELATIVE, DEFAULT_RELATIVE_TOLERANCE, MAX_INTERNAL_STEPS};
+use crate::integrate::{declared_tolerance, ABSOLUTE_PER_RELATIVE, MAX_INTERNAL_STEPS};
 use crate::model::{Model, Solver};
 use crate::variables::{Causality, Start, Variable};
 
@@ -78,7 +78,7 @@ without rebuilding. Values outside [min, max] are refused with fmi2Error and a m
 <h2>Simulation</h2>
 <p>Default experiment: {start} s to {stop} s, communication step {step} s.</p>
 <p>Each <code>fmi2DoStep</code> integrates with an adaptive {solver} with error control: relative tolerance from
-<code>fmi2SetupExperiment</code>, else {rtol}; absolute tolerance of each state {atol_factor} &times; rtol &times; its nominal value.
+<code>fmi2SetupExperiment</code>, else {rtol} (the DefaultExperiment's tolerance){floor}; absolute tolerance of each state {atol_factor} &times; rtol &times; its nominal value.
 Inputs are held over a communication step, unless the master gives their derivatives (<code>fmi2SetRealInputDerivatives</code>,
 orders 1 and 2) or the model's <code>extrapolate_inputs</code> parameter (where it has inputs) is on: each input then follows the
 line through its last two values. While nothing changes between communication steps, the explicit solver
@@ -112,7 +112,12 @@ result = fmpy.simulate_fmu("{name}.fmu", stop_time={stop}, output_interval={step
         start = real_text(e.start_time),
         stop = real_text(e.stop_time),
         step = real_text(e.step_size),
-        rtol = real_text(DEFAULT_RELATIVE_TOLERANCE),
+        rtol = real_text(declared_tolerance(M::tolerance_floor())),
+        floor = M::tolerance_floor().map_or(String::new(), |f| format!(
+            ", tightened to this model's floor {} where it is looser (a warning through the logger names both): at looser \
+             tolerances this model's errors grow far beyond the tolerance, see the accuracy table in the project's README",
+            real_text(f)
+        )),
         atol_factor = real_text(ABSOLUTE_PER_RELATIVE),
         max_steps = MAX_INTERNAL_STEPS,
     )

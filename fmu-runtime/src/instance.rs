@@ -11,7 +11,7 @@
 use std::sync::Arc;
 
 use crate::fmi2::types::{fmi2Discard, fmi2Error, fmi2OK, fmi2Status, fmi2Warning};
-use crate::integrate::{negligible_interval, Advanced, InputMotion, Integrator, DEFAULT_RELATIVE_TOLERANCE};
+use crate::integrate::{declared_tolerance, negligible_interval, Advanced, InputMotion, Integrator};
 use crate::lifecycle::Mode;
 use crate::log::Logger;
 use crate::model::{evaluate, Model, ModelInfo, RuntimeVariables};
@@ -377,8 +377,29 @@ impl<M: Model> Instance<M> {
         self.experiment = Experiment { tolerance, start_time, stop_time };
         self.time = start_time;
         self.stale = true;
-        self.debug(&format!("experiment: start {start_time} s, stop {stop_time:?} s, tolerance {tolerance:?}"));
+        let stop = stop_time.map_or("no stop time".to_string(), |s| format!("stop {s} s"));
+        let asked = tolerance.map_or(format!("no tolerance given (the default {})", declared_tolerance(M::tolerance_floor())), |t| format!("tolerance {t}"));
+        self.debug(&format!("experiment: start {start_time} s, {stop}, {asked}"));
+        if let (Interface::CoSimulation, Some(asked), Some(floor)) = (self.interface, tolerance, M::tolerance_floor()) {
+            if asked > floor {
+                self.logger.log(
+                    fmi2Warning,
+                    &format!(
+                        "tolerance {asked} from fmi2SetupExperiment is looser than this FMU's floor {floor}: its solver integrates at {floor} \
+                         (at looser tolerances its errors grow far beyond the tolerance; see the FMU's documentation)"
+                    ),
+                );
+            }
+        }
         Ok(())
+    }
+
+    /// The relative tolerance the Co-Simulation solver integrates at: the master's (else the
+    /// declared default), tightened to the model's floor.
+    fn solver_tolerance(&self) -> f64 {
+        let floor = M::tolerance_floor();
+        let asked = self.experiment.tolerance.unwrap_or(declared_tolerance(floor));
+        floor.map_or(asked, |floor| asked.min(floor))
     }
 
     pub fn enter_initialization_mode(&mut self) -> CallResult {
@@ -442,7 +463,7 @@ impl<M: Model> Instance<M> {
             self.table.n_states,
             self.table.indicators.len(),
             self.info.solver,
-            self.experiment.tolerance.unwrap_or(DEFAULT_RELATIVE_TOLERANCE),
+            self.solver_tolerance(),
             &self.table.state_nominals(),
             &self.table.state_known_index,
         )

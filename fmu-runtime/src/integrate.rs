@@ -183,6 +183,13 @@ pub const ROOT_TIME_TOLERANCE: f64 = 1e3 * f64::EPSILON;
 /// interpolation costs the same at any tolerance).
 pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-8;
 
+/// The tolerance an FMU declares in its DefaultExperiment, the one it is made for: its floor
+/// where the model has one (so a master that takes the suggestion is not tightened), else the
+/// default.
+pub fn declared_tolerance(floor: Option<f64>) -> f64 {
+    floor.map_or(DEFAULT_RELATIVE_TOLERANCE, |f| f.min(DEFAULT_RELATIVE_TOLERANCE))
+}
+
 /// Absolute tolerance of state i = `ABSOLUTE_PER_RELATIVE * rtol * nominal_i`.
 pub const ABSOLUTE_PER_RELATIVE: f64 = 1e-3;
 

@@ -61,6 +61,16 @@ pub trait Model: Sized + Send + Sync + 'static {
         false
     }
 
+    /// The loosest relative tolerance the model's Co-Simulation solver runs at (FMI's
+    /// `fmi2SetupExperiment` tolerance, or the default, is tightened to it, with a logged
+    /// warning that names both): for a model whose errors grow far beyond the tolerance asked
+    /// for, e.g. an explicit method riding its stability limit on a stiff mode (docs/DESIGN.md,
+    /// "Accuracy that follows the tolerance"). Model Exchange is unaffected: the master's own
+    /// solver integrates. None: any tolerance the master asks for is used as given.
+    fn tolerance_floor() -> Option<f64> {
+        None
+    }
+
     /// Checks relations between parameters that per-variable min/max cannot express; called
     /// when initialization ends. The message names the offending parameter.
     fn check(&self, _k: &Knowns) -> Result<(), String> {
