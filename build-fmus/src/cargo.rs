@@ -176,10 +176,17 @@ mod tests {
     #[test]
     fn library_path_is_the_release_cdylib() {
         let p = library_path(Path::new("/ws/target"), None, "rlc_circuit");
-        let zig = library_path(Path::new("/ws/target"), Some("x86_64-unknown-linux-gnu"), "rlc_circuit");
+        let zig = library_path(
+            Path::new("/ws/target"),
+            Some("x86_64-unknown-linux-gnu"),
+            "rlc_circuit",
+        );
         if cfg!(target_os = "linux") {
             assert_eq!(p, Path::new("/ws/target/release/librlc_circuit.so"));
-            assert_eq!(zig, Path::new("/ws/target/x86_64-unknown-linux-gnu/release/librlc_circuit.so"));
+            assert_eq!(
+                zig,
+                Path::new("/ws/target/x86_64-unknown-linux-gnu/release/librlc_circuit.so")
+            );
         }
     }
 
@@ -222,9 +229,21 @@ mod tests {
             venv: PathBuf::from("/repo/.build-tools/zig-x"),
             triple: "x86_64-unknown-linux-gnu".into(),
         };
-        let cmd = build_command(OsStr::new("/bin/cargo"), &zig, Path::new("/ws"), Path::new("/ws/target"), &models[..1]);
-        let args: Vec<_> = cmd.get_args().map(|a| a.to_string_lossy().into_owned()).collect();
-        assert_eq!(cmd.get_program(), "/repo/.build-tools/zig-x/bin/cargo-zigbuild");
+        let cmd = build_command(
+            OsStr::new("/bin/cargo"),
+            &zig,
+            Path::new("/ws"),
+            Path::new("/ws/target"),
+            &models[..1],
+        );
+        let args: Vec<_> = cmd
+            .get_args()
+            .map(|a| a.to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(
+            cmd.get_program(),
+            "/repo/.build-tools/zig-x/bin/cargo-zigbuild"
+        );
         assert_eq!(
             args,
             [
@@ -245,9 +264,15 @@ mod tests {
                 .and_then(|(_, v)| v)
                 .map(|v| v.to_string_lossy().into_owned())
         };
-        assert_eq!(env("CARGO_PROFILE_RELEASE_STRIP").as_deref(), Some("symbols"));
+        assert_eq!(
+            env("CARGO_PROFILE_RELEASE_STRIP").as_deref(),
+            Some("symbols")
+        );
         assert_eq!(env("CARGO").as_deref(), Some("/bin/cargo"));
-        assert_eq!(env("CARGO_ZIGBUILD_PYTHON_PATH").as_deref(), Some("/repo/.build-tools/zig-x/bin/python"));
+        assert_eq!(
+            env("CARGO_ZIGBUILD_PYTHON_PATH").as_deref(),
+            Some("/repo/.build-tools/zig-x/bin/python")
+        );
         assert_eq!(env("CARGO_TARGET_DIR").as_deref(), Some("/ws/target"));
     }
 

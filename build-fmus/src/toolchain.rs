@@ -119,8 +119,7 @@ pub fn ensure(host_build: bool, tools: &Path) -> Result<Toolchain, String> {
 /// install at once do not mix their files (the second rename fails; its copy is dropped).
 fn install(tools: &Path, venv: &Path) -> Result<(), String> {
     let started = Instant::now();
-    fs::create_dir_all(tools)
-        .map_err(|e| format!("could not create {}: {e}", tools.display()))?;
+    fs::create_dir_all(tools).map_err(|e| format!("could not create {}: {e}", tools.display()))?;
     let nanos = SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map(|d| d.subsec_nanos())
@@ -143,7 +142,13 @@ fn install(tools: &Path, venv: &Path) -> Result<(), String> {
             .map_err(|e| format!("could not write {}: {e}", requirements.display()))?;
         run(
             Command::new(venv_python(&tmp))
-                .args(["-m", "pip", "install", "--quiet", "--disable-pip-version-check"])
+                .args([
+                    "-m",
+                    "pip",
+                    "install",
+                    "--quiet",
+                    "--disable-pip-version-check",
+                ])
                 .args(["--no-input", "--only-binary", ":all:", "-r"])
                 .arg(&requirements),
             "pip install -r build-fmus/toolchain-requirements.txt",
@@ -166,7 +171,10 @@ fn install(tools: &Path, venv: &Path) -> Result<(), String> {
         }
         Err(e) => {
             let _ = fs::remove_dir_all(&tmp);
-            return Err(format!("could not move the toolchain to {}: {e}", venv.display()));
+            return Err(format!(
+                "could not move the toolchain to {}: {e}",
+                venv.display()
+            ));
         }
     }
     println!("  installed in {:.1} s", started.elapsed().as_secs_f64());
@@ -195,7 +203,10 @@ mod tests {
         for pin in &pins {
             let (name, version) = pin.split_once("==").expect("name==version");
             assert!(["ziglang", "cargo-zigbuild"].contains(&name), "{pin}");
-            assert!(version.split('.').all(|p| p.parse::<u32>().is_ok()), "{pin}");
+            assert!(
+                version.split('.').all(|p| p.parse::<u32>().is_ok()),
+                "{pin}"
+            );
         }
     }
 
@@ -216,7 +227,11 @@ mod tests {
 
     #[test]
     fn glibc_linux_gets_a_triple() {
-        if cfg!(all(target_os = "linux", target_env = "gnu", target_arch = "x86_64")) {
+        if cfg!(all(
+            target_os = "linux",
+            target_env = "gnu",
+            target_arch = "x86_64"
+        )) {
             assert_eq!(glibc_triple().as_deref(), Some("x86_64-unknown-linux-gnu"));
         }
     }

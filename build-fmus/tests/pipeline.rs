@@ -93,9 +93,17 @@ fn run(root: &Path, args: &[&str]) -> Output {
 /// Where the default build puts the libraries: `target/<triple>/release` (cargo zigbuild) on
 /// x86_64 glibc Linux, `target/release` elsewhere.
 fn release_dir(root: &Path) -> PathBuf {
-    if cfg!(all(target_os = "linux", target_env = "gnu", target_arch = "x86_64")) {
+    if cfg!(all(
+        target_os = "linux",
+        target_env = "gnu",
+        target_arch = "x86_64"
+    )) {
         root.join("target/x86_64-unknown-linux-gnu/release")
-    } else if cfg!(all(target_os = "linux", target_env = "gnu", target_arch = "aarch64")) {
+    } else if cfg!(all(
+        target_os = "linux",
+        target_env = "gnu",
+        target_arch = "aarch64"
+    )) {
         root.join("target/aarch64-unknown-linux-gnu/release")
     } else {
         root.join("target/release")
@@ -107,8 +115,13 @@ fn has_section(elf: &[u8], name: &str) -> bool {
     let u16_at = |o: usize| u16::from_le_bytes(elf[o..o + 2].try_into().unwrap()) as usize;
     let u32_at = |o: usize| u32::from_le_bytes(elf[o..o + 4].try_into().unwrap()) as usize;
     let u64_at = |o: usize| u64::from_le_bytes(elf[o..o + 8].try_into().unwrap()) as usize;
-    assert_eq!(&elf[..6], b"\x7fELF\x02\x01", "not a little-endian ELF64 file");
-    let (shoff, shentsize, shnum, shstrndx) = (u64_at(0x28), u16_at(0x3a), u16_at(0x3c), u16_at(0x3e));
+    assert_eq!(
+        &elf[..6],
+        b"\x7fELF\x02\x01",
+        "not a little-endian ELF64 file"
+    );
+    let (shoff, shentsize, shnum, shstrndx) =
+        (u64_at(0x28), u16_at(0x3a), u16_at(0x3c), u16_at(0x3e));
     let names = u64_at(shoff + shstrndx * shentsize + 0x18);
     (0..shnum).any(|i| {
         let start = names + u32_at(shoff + i * shentsize);
@@ -172,14 +185,30 @@ fn builds_extracts_and_packages_a_fake_workspace() {
     let built = fs::read(&built_path).unwrap();
     // The default build links for glibc 2.17 and strips the symbol table; a panic inside
     // the library still unwinds to its catch_unwind.
-    if cfg!(all(target_os = "linux", target_env = "gnu", target_arch = "x86_64")) {
-        assert!(stdout.contains("binaries for glibc 2.17 or newer, stripped"), "{stdout}");
-        assert!(!has_section(&built, ".symtab"), "{} is not stripped", built_path.display());
-        assert!(has_section(&built, ".eh_frame"), "{} lost .eh_frame", built_path.display());
+    if cfg!(all(
+        target_os = "linux",
+        target_env = "gnu",
+        target_arch = "x86_64"
+    )) {
+        assert!(
+            stdout.contains("binaries for glibc 2.17 or newer, stripped"),
+            "{stdout}"
+        );
+        assert!(
+            !has_section(&built, ".symtab"),
+            "{} is not stripped",
+            built_path.display()
+        );
+        assert!(
+            has_section(&built, ".eh_frame"),
+            "{} lost .eh_frame",
+            built_path.display()
+        );
     }
     let caught = unsafe {
         let lib = libloading::Library::new(&built_path).unwrap();
-        let f: libloading::Symbol<unsafe extern "C" fn() -> i32> = lib.get(b"fake_panic_is_caught").unwrap();
+        let f: libloading::Symbol<unsafe extern "C" fn() -> i32> =
+            lib.get(b"fake_panic_is_caught").unwrap();
         f()
     };
     assert_eq!(caught, 1, "the panic did not unwind to catch_unwind");
