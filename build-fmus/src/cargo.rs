@@ -83,7 +83,7 @@ pub fn build_command(
                 .arg("--target")
                 .arg(format!("{triple}.{}", toolchain::GLIBC));
             // cargo-zigbuild runs zig as `python -m ziglang`, with this environment's Python;
-            // both tools keep their caches in the environment, nothing goes to ~/.cache.
+            // both tools keep their caches in the environment, not in ~/.cache.
             let cache = venv.join("cache");
             cmd.env("CARGO", cargo)
                 .env("CARGO_ZIGBUILD_PYTHON_PATH", toolchain::venv_python(venv))

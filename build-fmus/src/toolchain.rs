@@ -6,7 +6,8 @@
 //! zig and cargo-zigbuild come from PyPI at the versions pinned in
 //! `build-fmus/toolchain-requirements.txt`, installed by [`ensure`] into a virtual environment
 //! under the repository's `.build-tools/` the first time they are needed. Nothing is installed
-//! outside the repository: the caches of zig and cargo-zigbuild live in that environment too.
+//! outside the repository: the caches of zig and cargo-zigbuild live in that environment too
+//! (pip may keep the downloaded wheels in its own cache).
 
 use std::env;
 use std::ffi::OsString;
