@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Everything CI runs, in one command (README: "Run every test"):
-#   1. builds every FMU once, in release, into dist/ (the tests load these very files),
+#   1. builds every FMU once, in release, into dist/ (the tests load these very files), linked for
+#      glibc 2.17 with cargo zigbuild (build-fmus installs the pinned toolchain into .build-tools/
+#      on its first run),
 #   2. runs the Rust tests (unit tests and the native FMI host tests against dist/*.fmu), then
 #      a subset of them under valgrind memcheck (tests/valgrind.sh),
 #   3. creates the Python virtual environment .venv from tests/requirements.txt (pinned),

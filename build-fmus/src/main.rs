@@ -4,7 +4,10 @@
 //! The steps, one module each:
 //! 1. [`discover`]: find the workspace root and the model crates (members under `models/`
 //!    whose `[lib] crate-type` has `cdylib`);
-//! 2. [`cargo`]: build all their libraries with one `cargo build --release --lib -p ...`;
+//! 2. [`toolchain`] and [`cargo`]: build all their libraries with one
+//!    `cargo zigbuild --release --lib --target <triple>.2.17 -p ...` (zig and cargo-zigbuild,
+//!    pinned, installed on first use), so they need glibc 2.17 at most, stripped; or with one
+//!    plain `cargo build --release --lib -p ...` with `--host-build`;
 //! 3. [`extract`]: load each library and copy out its modelIdentifier, modelDescription.xml
 //!    and documentation page, which `fmu_runtime::export_fmu!` exports;
 //! 4. [`package`]: zip them with the library into a deterministic `.fmu`, with the model's
@@ -24,6 +27,7 @@ mod package;
 mod scaffold;
 mod ssp;
 mod systems;
+mod toolchain;
 
 use std::collections::BTreeMap;
 use std::ffi::OsString;
@@ -51,14 +55,22 @@ Options:
   --workspace DIR    the workspace root (default: the workspace this tool belongs to,
                      else the one around the current directory)
   --path DIR         with `new`: where the crate's directory is made (default: .)
+  --host-build       build with a plain `cargo build` for this machine's glibc (unstripped,
+                     into <target>/release), instead of the default glibc 2.17 build
   -h, --help         print this help and exit
 
 A model crate is a crate whose [lib] crate-type has \"cdylib\" and whose src/lib.rs ends with
 fmu_runtime::export_fmu!(<Model>): the workspace members under models/, or any crate made by
 `build-fmus new` (standalone: its own [workspace], path dependencies on fmu-runtime and
-components). Every model takes the same steps: `cargo build --release --lib` ($CARGO and
-$CARGO_TARGET_DIR are honoured; a standalone crate builds into its own target/ unless
-CARGO_TARGET_DIR shares one, which reuses the compiled dependencies), then its library is
+components). Every model takes the same steps:
+`cargo zigbuild --release --lib --target x86_64-unknown-linux-gnu.2.17`, which links the
+library against glibc 2.17 so that it loads on every Linux since 2012, stripped of its symbol
+table (zig and cargo-zigbuild at the versions of build-fmus/toolchain-requirements.txt are
+installed from PyPI into <repository>/.build-tools/ on first use, with `python3 -m venv`;
+$BUILD_FMUS_PYTHON and $BUILD_FMUS_TOOLS_DIR override both; --host-build skips this), the
+library landing in <target>/x86_64-unknown-linux-gnu/release ($CARGO and $CARGO_TARGET_DIR
+are honoured; a standalone crate builds into its own target/ unless CARGO_TARGET_DIR shares
+one, which reuses the compiled dependencies), then its library is
 loaded to read its modelDescription.xml, documentation and the problems its declarations have
 (a model with problems is refused, each named with its file, line and fix), and zipped:
   modelDescription.xml, binaries/linux64/<ModelIdentifier>.so, documentation/index.html
@@ -91,6 +103,7 @@ struct Options {
     only: Vec<String>,
     workspace: Option<PathBuf>,
     path: Option<PathBuf>,
+    host_build: bool,
     help: bool,
 }
 
@@ -126,6 +139,7 @@ fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Options, Strin
             "list" if opts.command == Command::BuildAll => opts.command = Command::List,
             "--path" => opts.path = Some(value("--path")?.into()),
             "-h" | "--help" => opts.help = true,
+            "--host-build" => opts.host_build = true,
             "--out" => opts.out = Some(value("--out")?.into()),
             "--workspace" => opts.workspace = Some(value("--workspace")?.into()),
             "--only" => {
@@ -297,7 +311,8 @@ fn run(opts: &Options) -> Result<usize, String> {
     };
     let Project { root, target_dir, models, systems } = &project;
     let selection = select(models, &only);
-    cargo::build(&cargo_program, root, target_dir, &selection.build)?;
+    let toolchain = toolchain::ensure(opts.host_build, &toolchain::tools_dir(&repository()))?;
+    cargo::build(&cargo_program, &toolchain, root, target_dir, &selection.build)?;
 
     // Created only when the first FMU is ready, so a run that fails leaves nothing behind.
     let out_dir = opts.out.clone().unwrap_or_else(|| root.join("dist"));
@@ -308,7 +323,7 @@ fn run(opts: &Options) -> Result<usize, String> {
     let mut identifiers: BTreeMap<String, String> = BTreeMap::new(); // identifier -> package
     let mut descriptions: BTreeMap<String, String> = BTreeMap::new(); // packaged: identifier -> XML
     for model in &selection.build {
-        let lib_path = cargo::library_path(target_dir, &model.lib_name);
+        let lib_path = cargo::library_path(target_dir, toolchain.triple(), &model.lib_name);
         let info = match extract::extract(&lib_path, &model.package) {
             Ok(info) => info,
             Err(e) => {
@@ -369,7 +384,7 @@ fn run(opts: &Options) -> Result<usize, String> {
     };
     failed += systems_failed;
     println!(
-        "Packaged {written} FMU{}{} into {} in {:.1} s{}",
+        "Packaged {written} FMU{}{} into {} in {:.1} s ({}){}",
         if written == 1 { "" } else { "s" },
         match systems_written {
             0 => String::new(),
@@ -378,6 +393,10 @@ fn run(opts: &Options) -> Result<usize, String> {
         },
         shown(&out_dir),
         started.elapsed().as_secs_f64(),
+        match toolchain {
+            toolchain::Toolchain::Zig { .. } => format!("binaries for glibc {} or newer, stripped", toolchain::GLIBC),
+            toolchain::Toolchain::Host => "--host-build: binaries for this machine's glibc".to_owned(),
+        },
         if failed > 0 {
             format!("; {failed} failed")
         } else {
@@ -612,6 +631,8 @@ mod tests {
         assert_eq!(o.only, ["rlc-circuit", "MotorFan"]);
         assert_eq!(o.workspace, Some(PathBuf::from("/ws")));
         assert!(args(&["-h"]).unwrap().help);
+        assert!(args(&["--host-build"]).unwrap().host_build);
+        assert!(!args(&[]).unwrap().host_build);
         assert!(args(&["--help"]).unwrap().help);
         assert!(args(&["--out"])
             .unwrap_err()

@@ -1,6 +1,7 @@
 //! The whole pipeline on a throwaway workspace made in a temp directory: discovery, one
-//! cargo build, loading each library, zipping. The fake model exports the three
-//! `fmu_runtime_*` symbols by hand, so this test needs neither the runtime nor a real model.
+//! cargo build (the default one: cargo zigbuild for glibc 2.17, stripped), loading each
+//! library, zipping. The fake model exports the three `fmu_runtime_*` symbols by hand, so this
+//! test needs neither the runtime nor a real model.
 
 use std::fs;
 use std::io::Read;
@@ -27,6 +28,13 @@ pub extern "C" fn fmu_runtime_model_description() -> *const c_char {
 #[no_mangle]
 pub extern "C" fn fmu_runtime_documentation() -> *const c_char {
     c"<!DOCTYPE html><html><body>Fake model, ünïcode</body></html>".as_ptr()
+}
+/// A panic caught before the C boundary, as fmu-runtime's fmi2 functions catch them: 1 when
+/// it unwound to catch_unwind (the stripped library kept its unwind tables).
+#[no_mangle]
+pub extern "C" fn fake_panic_is_caught() -> i32 {
+    std::panic::set_hook(Box::new(|_| {}));
+    std::panic::catch_unwind(|| -> i32 { panic!("a model bug") }).is_err() as i32
 }
 "#;
 
@@ -82,6 +90,46 @@ fn run(root: &Path, args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// Where the default build puts the libraries: `target/<triple>/release` (cargo zigbuild) on
+/// x86_64 glibc Linux, `target/release` elsewhere.
+fn release_dir(root: &Path) -> PathBuf {
+    if cfg!(all(
+        target_os = "linux",
+        target_env = "gnu",
+        target_arch = "x86_64"
+    )) {
+        root.join("target/x86_64-unknown-linux-gnu/release")
+    } else if cfg!(all(
+        target_os = "linux",
+        target_env = "gnu",
+        target_arch = "aarch64"
+    )) {
+        root.join("target/aarch64-unknown-linux-gnu/release")
+    } else {
+        root.join("target/release")
+    }
+}
+
+/// Whether the ELF64 little-endian image has a section of this name.
+fn has_section(elf: &[u8], name: &str) -> bool {
+    let u16_at = |o: usize| u16::from_le_bytes(elf[o..o + 2].try_into().unwrap()) as usize;
+    let u32_at = |o: usize| u32::from_le_bytes(elf[o..o + 4].try_into().unwrap()) as usize;
+    let u64_at = |o: usize| u64::from_le_bytes(elf[o..o + 8].try_into().unwrap()) as usize;
+    assert_eq!(
+        &elf[..6],
+        b"\x7fELF\x02\x01",
+        "not a little-endian ELF64 file"
+    );
+    let (shoff, shentsize, shnum, shstrndx) =
+        (u64_at(0x28), u16_at(0x3a), u16_at(0x3c), u16_at(0x3e));
+    let names = u64_at(shoff + shstrndx * shentsize + 0x18);
+    (0..shnum).any(|i| {
+        let start = names + u32_at(shoff + i * shentsize);
+        let end = start + elf[start..].iter().position(|&b| b == 0).unwrap();
+        &elf[start..end] == name.as_bytes()
+    })
+}
+
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
@@ -129,12 +177,41 @@ fn builds_extracts_and_packages_a_fake_workspace() {
         .read_to_string(&mut xml)
         .unwrap();
     assert!(xml.contains("modelIdentifier=\"FakeModel\""));
-    let built = fs::read(root.join("target/release").join(format!(
+    let built_path = release_dir(&root).join(format!(
         "{}fake_model{}",
         std::env::consts::DLL_PREFIX,
         std::env::consts::DLL_SUFFIX
-    )))
-    .unwrap();
+    ));
+    let built = fs::read(&built_path).unwrap();
+    // The default build links for glibc 2.17 and strips the symbol table; a panic inside
+    // the library still unwinds to its catch_unwind.
+    if cfg!(all(
+        target_os = "linux",
+        target_env = "gnu",
+        target_arch = "x86_64"
+    )) {
+        assert!(
+            stdout.contains("binaries for glibc 2.17 or newer, stripped"),
+            "{stdout}"
+        );
+        assert!(
+            !has_section(&built, ".symtab"),
+            "{} is not stripped",
+            built_path.display()
+        );
+        assert!(
+            has_section(&built, ".eh_frame"),
+            "{} lost .eh_frame",
+            built_path.display()
+        );
+    }
+    let caught = unsafe {
+        let lib = libloading::Library::new(&built_path).unwrap();
+        let f: libloading::Symbol<unsafe extern "C" fn() -> i32> =
+            lib.get(b"fake_panic_is_caught").unwrap();
+        f()
+    };
+    assert_eq!(caught, 1, "the panic did not unwind to catch_unwind");
     let mut binary = Vec::new();
     archive
         .by_name(&names[1])
@@ -191,7 +268,7 @@ fn builds_extracts_and_packages_a_fake_workspace() {
     let stderr = text(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
-        stderr.contains("cargo build of the model crates failed") && stderr.contains("fake-model"),
+        stderr.contains("of the model crates failed") && stderr.contains("fake-model"),
         "{stderr}"
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
