@@ -20,6 +20,15 @@ fn start_text(v: &Variable) -> String {
     }
 }
 
+/// A declared minimum; a strictly positive quantity's (the smallest positive normal double) says so.
+fn min_text(min: f64) -> String {
+    if min == crate::variables::SMALLEST_POSITIVE {
+        format!("{} (&gt; 0)", real_text(min))
+    } else {
+        real_text(min)
+    }
+}
+
 fn table(title: &str, vars: &[&Variable]) -> String {
     if vars.is_empty() {
         return String::new();
@@ -35,7 +44,7 @@ fn table(title: &str, vars: &[&Variable]) -> String {
             v.value_reference,
             escape(v.unit.as_deref().unwrap_or("")),
             start_text(v),
-            v.min.map(real_text).unwrap_or_default(),
+            v.min.map(min_text).unwrap_or_default(),
             v.max.map(real_text).unwrap_or_default(),
             v.variability.as_str(),
             escape(&v.description)
@@ -73,7 +82,8 @@ pub fn html<M: Model>(d: &ModelDescription) -> String {
 {documentation}
 <h2>Variables</h2>
 <p>Every physical value is a parameter with its SI unit: set it before initialization to sweep or calibrate
-without rebuilding. Values outside [min, max] are refused with fmi2Error and a message naming the parameter.</p>
+without rebuilding. Values outside [min, max] (inclusive, as declared in modelDescription.xml) are refused with fmi2Error and a message naming the parameter;
+a strictly positive quantity declares the smallest positive double as its min.</p>
 {parameters}{inputs}{outputs}{states}{locals}
 <h2>Simulation</h2>
 <p>Default experiment: {start} s to {stop} s, communication step {step} s.</p>

@@ -400,6 +400,10 @@ impl<M: Model> Instance<M> {
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
         self.settle_initial_modes()?;
+        if let Err(message) = crate::model::check_finite_start(&*self.model, &self.table, self.time, &self.values, &self.states) {
+            self.mode = Mode::Error;
+            return Err(Failure::error(format!("initialization failed: {message}")));
+        }
         if self.interface == Interface::ModelExchange {
             self.mode = Mode::EventMode;
             self.stale = true;
