@@ -22,6 +22,7 @@ mod figures;
 mod interface;
 mod package;
 mod scaffold;
+mod source_date;
 mod ssp;
 mod systems;
 
@@ -63,6 +64,8 @@ loaded to read its modelDescription.xml, documentation and the problems its decl
 (a model with problems is refused, each named with its file, line and fix), and zipped:
   modelDescription.xml, binaries/linux64/<ModelIdentifier>.so, documentation/index.html
 with the figures <project>/docs/figures/<ModelIdentifier>_*.png as documentation/<file>.png.
+Each FMU's generationDateAndTime is $SOURCE_DATE_EPOCH if set, else the date of the project's
+last git commit (baked into the binary at compile time; without either, none).
 
 A system (models/systems/<System>.toml: components, connections \"a.y -> b.u\" from an
 output to an input, optional parameter values) is checked against the FMUs' variables and
@@ -297,6 +300,8 @@ fn run(opts: &Options) -> Result<usize, String> {
     };
     let Project { root, target_dir, models, systems } = &project;
     let selection = select(models, &only);
+    // generationDateAndTime: the source's date, baked into each binary when cargo compiles it.
+    source_date::export(root);
     cargo::build(&cargo_program, root, target_dir, &selection.build)?;
 
     // Created only when the first FMU is ready, so a run that fails leaves nothing behind.
