@@ -19,6 +19,7 @@ mod cargo;
 mod discover;
 mod extract;
 mod figures;
+mod icon;
 mod interface;
 mod package;
 mod scaffold;
@@ -62,7 +63,8 @@ $CARGO_TARGET_DIR are honoured; a standalone crate builds into its own target/ u
 CARGO_TARGET_DIR shares one, which reuses the compiled dependencies), then its library is
 loaded to read its modelDescription.xml, documentation and the problems its declarations have
 (a model with problems is refused, each named with its file, line and fix), and zipped:
-  modelDescription.xml, binaries/linux64/<ModelIdentifier>.so, documentation/index.html
+  modelDescription.xml, model.png (an icon drawn from the identifier),
+  binaries/linux64/<ModelIdentifier>.so, documentation/index.html
 with the figures <project>/docs/figures/<ModelIdentifier>_*.png as documentation/<file>.png.
 Each FMU's generationDateAndTime is $SOURCE_DATE_EPOCH if set, else the date of the project's
 last git commit (baked into the binary at compile time; without either, none).
@@ -481,6 +483,7 @@ fn package_one(
         &package::FmuContents {
             identifier: &info.identifier,
             model_description: info.description.as_bytes(),
+            icon: &icon::png(&info.identifier),
             binary: &binary,
             documentation: documentation.as_bytes(),
             figures: &figures,
