@@ -22,9 +22,9 @@ pub fn commit_date(root: &Path) -> Option<String> {
 }
 
 /// Sets `SOURCE_DATE_EPOCH` for the cargo build this process starts, from git, unless the caller
-/// set it; returns the value the build uses (None: no date).
+/// set it (an empty value counts as unset); returns the value the build uses (None: no date).
 pub fn export(root: &Path) -> Option<String> {
-    if let Some(set) = std::env::var_os(VAR) {
+    if let Some(set) = std::env::var_os(VAR).filter(|v| !v.is_empty()) {
         return set.into_string().ok();
     }
     let date = commit_date(root)?;
