@@ -388,8 +388,9 @@ impl<M: Model> Instance<M> {
         Ok(())
     }
 
-    /// Checks every parameter against its physical range and the model's own relations; a
-    /// violation moves the instance to the Error mode with a message naming the parameter.
+    /// Checks every parameter against its physical range and the model's own relations, then that
+    /// every value at the start is finite; a violation moves the instance to the Error mode with a
+    /// message naming the parameter.
     pub fn exit_initialization_mode(&mut self) -> CallResult {
         if let Err(message) = self.check_parameters() {
             self.mode = Mode::Error;
