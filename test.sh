@@ -10,6 +10,13 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
+# One source date for every build below (build-fmus takes the same from git when it is unset):
+# export_fmu! bakes it into each model at compile time, so with one value cargo does not rebuild
+# the model crates between `build-fmus` and `cargo test`.
+if [ -z "${SOURCE_DATE_EPOCH:-}" ] && source_date="$(git log -1 --format=%ct 2>/dev/null)"; then
+    export SOURCE_DATE_EPOCH="$source_date"
+fi
+
 echo "== build every FMU (release)"
 cargo run --release -p build-fmus
 

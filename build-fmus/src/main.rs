@@ -22,9 +22,11 @@ mod cargo;
 mod discover;
 mod extract;
 mod figures;
+mod icon;
 mod interface;
 mod package;
 mod scaffold;
+mod source_date;
 mod ssp;
 mod systems;
 mod toolchain;
@@ -73,8 +75,11 @@ are honoured; a standalone crate builds into its own target/ unless CARGO_TARGET
 one, which reuses the compiled dependencies), then its library is
 loaded to read its modelDescription.xml, documentation and the problems its declarations have
 (a model with problems is refused, each named with its file, line and fix), and zipped:
-  modelDescription.xml, binaries/linux64/<ModelIdentifier>.so, documentation/index.html
+  modelDescription.xml, model.png (an icon drawn from the identifier),
+  binaries/linux64/<ModelIdentifier>.so, documentation/index.html
 with the figures <project>/docs/figures/<ModelIdentifier>_*.png as documentation/<file>.png.
+Each FMU's generationDateAndTime is $SOURCE_DATE_EPOCH if set, else the date of the project's
+last git commit (baked into the binary at compile time; without either, none).
 
 A system (models/systems/<System>.toml: components, connections \"a.y -> b.u\" from an
 output to an input, optional parameter values) is checked against the FMUs' variables and
@@ -312,6 +317,8 @@ fn run(opts: &Options) -> Result<usize, String> {
     let Project { root, target_dir, models, systems } = &project;
     let selection = select(models, &only);
     let toolchain = toolchain::ensure(opts.host_build, &toolchain::tools_dir(&repository()))?;
+    // generationDateAndTime: the source's date, baked into each binary when cargo compiles it.
+    source_date::export(root);
     cargo::build(&cargo_program, &toolchain, root, target_dir, &selection.build)?;
 
     // Created only when the first FMU is ready, so a run that fails leaves nothing behind.
@@ -495,6 +502,7 @@ fn package_one(
         &package::FmuContents {
             identifier: &info.identifier,
             model_description: info.description.as_bytes(),
+            icon: &icon::png(&info.identifier),
             binary: &binary,
             documentation: documentation.as_bytes(),
             figures: &figures,

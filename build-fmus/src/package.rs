@@ -4,6 +4,7 @@
 //!
 //! ```text
 //! modelDescription.xml
+//! model.png                      (the icon, drawn by `icon::png`)
 //! binaries/<platform>/<modelIdentifier>.<so|dylib|dll>
 //! documentation/index.html
 //! documentation/<figure>.png     (the model's figures from docs/figures, if any)
@@ -28,6 +29,8 @@ pub struct FmuContents<'a> {
     pub identifier: &'a str,
     /// modelDescription.xml.
     pub model_description: &'a [u8],
+    /// model.png, the FMU's icon.
+    pub icon: &'a [u8],
     /// The built shared library.
     pub binary: &'a [u8],
     /// documentation/index.html.
@@ -51,7 +54,7 @@ pub fn platform() -> Option<(&'static str, &'static str)> {
 }
 
 /// The entry names of an FMU for `identifier`, in archive order.
-pub fn entry_names(identifier: &str) -> Result<[String; 3], String> {
+pub fn entry_names(identifier: &str) -> Result<[String; 4], String> {
     let (dir, ext) = platform().ok_or_else(|| {
         format!(
             "FMI 2.0 defines no binaries/ folder for {}-{}",
@@ -61,16 +64,21 @@ pub fn entry_names(identifier: &str) -> Result<[String; 3], String> {
     })?;
     Ok([
         "modelDescription.xml".to_owned(),
+        "model.png".to_owned(),
         format!("binaries/{dir}/{identifier}.{ext}"),
         "documentation/index.html".to_owned(),
     ])
 }
+
+/// The position of the binary among the entries (executable, 0o755).
+const BINARY: usize = 2;
 
 /// The archive's bytes.
 pub fn fmu_bytes(contents: &FmuContents) -> Result<Vec<u8>, String> {
     let names = entry_names(contents.identifier)?;
     let data = [
         contents.model_description,
+        contents.icon,
         contents.binary,
         contents.documentation,
     ];
@@ -82,7 +90,7 @@ pub fn fmu_bytes(contents: &FmuContents) -> Result<Vec<u8>, String> {
     let zip_err = |e: zip::result::ZipError| format!("could not write the zip archive: {e}");
     let mut zip = ZipWriter::new(Cursor::new(Vec::new()));
     for (i, (name, bytes)) in names.iter().zip(data).enumerate() {
-        let mode = if i == 1 { 0o755 } else { 0o644 };
+        let mode = if i == BINARY { 0o755 } else { 0o644 };
         zip.start_file(name.as_str(), base.unix_permissions(mode))
             .map_err(zip_err)?;
         zip.write_all(bytes)
@@ -140,6 +148,7 @@ mod tests {
         FmuContents {
             identifier: "RlcCircuit",
             model_description: b"<?xml version=\"1.0\"?><fmiModelDescription/>",
+            icon: b"\x89PNG icon",
             binary,
             documentation: b"<!DOCTYPE html><html><body>RLC</body></html>",
             figures: &[],
@@ -153,6 +162,7 @@ mod tests {
             entry_names("RlcCircuit").unwrap(),
             [
                 "modelDescription.xml",
+                "model.png",
                 "binaries/linux64/RlcCircuit.so",
                 "documentation/index.html"
             ]
@@ -160,7 +170,7 @@ mod tests {
     }
 
     #[test]
-    fn the_archive_holds_exactly_the_three_entries_in_order() {
+    fn the_archive_holds_exactly_the_four_entries_in_order() {
         let binary: Vec<u8> = (0..100_000u32).map(|i| (i * 7 % 251) as u8).collect();
         let tmp = TempDir::new("package");
         let path = tmp.path().join("RlcCircuit.fmu");
@@ -169,9 +179,10 @@ mod tests {
 
         let mut archive = zip::ZipArchive::new(fs::File::open(&path).unwrap()).unwrap();
         let names = entry_names("RlcCircuit").unwrap();
-        assert_eq!(archive.len(), 3);
-        let expected: [&[u8]; 3] = [
+        assert_eq!(archive.len(), 4);
+        let expected: [&[u8]; 4] = [
             contents(&binary).model_description,
+            contents(&binary).icon,
             &binary,
             contents(&binary).documentation,
         ];
@@ -189,9 +200,15 @@ mod tests {
             assert_eq!(&got, want);
         }
         assert_eq!(
-            archive.by_index(1).unwrap().unix_mode().map(|m| m & 0o777),
+            archive.by_index(BINARY).unwrap().unix_mode().map(|m| m & 0o777),
             Some(0o755)
         );
+        for i in [0, 1, 3] {
+            assert_eq!(
+                archive.by_index(i).unwrap().unix_mode().map(|m| m & 0o777),
+                Some(0o644)
+            );
+        }
         // Only the .fmu is left in the directory: no temporary file.
         let left: Vec<_> = fs::read_dir(tmp.path())
             .unwrap()
@@ -216,10 +233,10 @@ mod tests {
             .file_names()
             .map(|n| n.unwrap().into_owned())
             .collect();
-        assert_eq!(names.len(), 5);
-        assert_eq!(names[2], "documentation/index.html");
-        assert_eq!(names[3], "documentation/RlcCircuit_a.png");
-        assert_eq!(names[4], "documentation/RlcCircuit_b.png");
+        assert_eq!(names.len(), 6);
+        assert_eq!(names[3], "documentation/index.html");
+        assert_eq!(names[4], "documentation/RlcCircuit_a.png");
+        assert_eq!(names[5], "documentation/RlcCircuit_b.png");
         let mut got = Vec::new();
         archive
             .by_name("documentation/RlcCircuit_b.png")

@@ -163,13 +163,17 @@ fn builds_extracts_and_packages_a_fake_workspace() {
         .map(|n| n.unwrap().into_owned())
         .collect();
     let lib_ext = std::env::consts::DLL_EXTENSION;
-    assert_eq!(names.len(), 3, "{names:?}");
+    assert_eq!(names.len(), 4, "{names:?}");
     assert_eq!(names[0], "modelDescription.xml");
+    assert_eq!(names[1], "model.png");
     assert!(
-        names[1].starts_with("binaries/") && names[1].ends_with(&format!("/FakeModel.{lib_ext}")),
+        names[2].starts_with("binaries/") && names[2].ends_with(&format!("/FakeModel.{lib_ext}")),
         "{names:?}"
     );
-    assert_eq!(names[2], "documentation/index.html");
+    assert_eq!(names[3], "documentation/index.html");
+    let mut icon = Vec::new();
+    archive.by_name("model.png").unwrap().read_to_end(&mut icon).unwrap();
+    assert!(icon.starts_with(b"\x89PNG\r\n\x1a\n"), "model.png is a PNG");
     let mut xml = String::new();
     archive
         .by_name("modelDescription.xml")
@@ -214,7 +218,7 @@ fn builds_extracts_and_packages_a_fake_workspace() {
     assert_eq!(caught, 1, "the panic did not unwind to catch_unwind");
     let mut binary = Vec::new();
     archive
-        .by_name(&names[1])
+        .by_name(&names[2])
         .unwrap()
         .read_to_end(&mut binary)
         .unwrap();

@@ -29,11 +29,89 @@ use crate::variables::{Causality, Initial, Slot, Start, Variable, VariableTable}
 pub struct ModelDescription {
     pub xml: String,
     pub guid: String,
+    /// The model crate's version, authors, license and source date (in the XML's header).
+    pub package: Package,
     pub table: VariableTable,
     pub structure: Structure,
     /// What is wrong with the model (its declarations, or a computed variable its equations
     /// never write): "file:line: rule. Fix: ...". A model with problems is not exported.
     pub problems: Vec<String>,
+}
+
+/// What the model crate's Cargo.toml says about it, and when its source was made. `export_fmu!`
+/// fills it in where it expands, in the model crate at compile time (`CARGO_PKG_VERSION`, ...,
+/// `SOURCE_DATE_EPOCH`), so the description the binary writes at run time is byte for byte the
+/// one build-fmus packaged: same XML, same guid.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Package {
+    /// `CARGO_PKG_VERSION`: the FMU's `version`.
+    pub version: &'static str,
+    /// `CARGO_PKG_AUTHORS`, colon-separated as cargo gives them: `author` and `copyright`.
+    pub authors: &'static str,
+    /// `CARGO_PKG_LICENSE`, an SPDX expression: `license`.
+    pub license: &'static str,
+    /// `SOURCE_DATE_EPOCH` when the model crate was compiled (seconds since 1970-01-01 UTC; build-fmus
+    /// sets it to the date of the source's last commit unless it is set): `generationDateAndTime`.
+    pub source_date_epoch: Option<&'static str>,
+}
+
+impl Package {
+    /// The authors, comma-separated.
+    pub fn authors(&self) -> String {
+        self.authors.split(':').map(str::trim).filter(|a| !a.is_empty()).collect::<Vec<_>>().join(", ")
+    }
+
+    /// The source date as an xs:dateTime ("2026-12-01T21:46:29Z"), if it is a number of seconds.
+    pub fn generation_date_and_time(&self) -> Option<String> {
+        self.source_date_epoch.and_then(|s| s.trim().parse::<i64>().ok()).map(utc_date_time)
+    }
+
+    /// "Copyright (c) <year of the source date> <authors>", if there are authors.
+    pub fn copyright(&self) -> Option<String> {
+        let authors = self.authors();
+        if authors.is_empty() {
+            return None;
+        }
+        Some(match self.generation_date_and_time() {
+            Some(date) => format!("Copyright (c) {} {authors}", &date[..4]),
+            None => format!("Copyright (c) {authors}"),
+        })
+    }
+
+    /// The attributes of `fmiModelDescription` it gives, in the schema's order (empty ones left out).
+    fn attributes(&self) -> Vec<(&'static str, String)> {
+        let mut a = Vec::new();
+        let authors = self.authors();
+        if !authors.is_empty() {
+            a.push(("author", authors));
+        }
+        if !self.version.is_empty() {
+            a.push(("version", self.version.to_string()));
+        }
+        if let Some(c) = self.copyright() {
+            a.push(("copyright", c));
+        }
+        if !self.license.is_empty() {
+            a.push(("license", self.license.to_string()));
+        }
+        a
+    }
+}
+
+/// Seconds since 1970-01-01 UTC as an xs:dateTime in UTC, "YYYY-MM-DDThh:mm:ssZ" (the proleptic
+/// Gregorian calendar, days to civil date as in H. Hinnant's `civil_from_days`).
+pub fn utc_date_time(epoch: i64) -> String {
+    let (days, secs) = (epoch.div_euclid(86_400), epoch.rem_euclid(86_400));
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z", secs / 3600, secs % 3600 / 60, secs % 60)
 }
 
 /// The computed variables (outputs, locals, calculated parameters) that `Model::outputs` leaves
@@ -540,22 +618,23 @@ fn write_units(w: &mut Xml, table: &VariableTable) {
 /// The placeholder the guid replaces after hashing.
 const GUID_PLACEHOLDER: &str = "{00000000-0000-0000-0000-000000000000}";
 
-fn write_xml<M: Model>(table: &VariableTable, structure: &Structure) -> String {
+fn write_xml<M: Model>(table: &VariableTable, structure: &Structure, package: &Package) -> String {
     let info = M::info();
     let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
     w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None))).expect("memory");
-    open(
-        &mut w,
-        "fmiModelDescription",
-        &[
-            ("fmiVersion", "2.0".into()),
-            ("modelName", info.name.into()),
-            ("guid", GUID_PLACEHOLDER.into()),
-            ("description", info.description.into()),
-            ("generationTool", format!("fmu-runtime {}", env!("CARGO_PKG_VERSION"))),
-            ("numberOfEventIndicators", table.indicators.len().to_string()),
-        ],
-    );
+    let mut header = vec![
+        ("fmiVersion", "2.0".to_string()),
+        ("modelName", info.name.into()),
+        ("guid", GUID_PLACEHOLDER.into()),
+        ("description", info.description.into()),
+    ];
+    header.extend(package.attributes());
+    header.push(("generationTool", format!("fmu-runtime {}", env!("CARGO_PKG_VERSION"))));
+    if let Some(date) = package.generation_date_and_time() {
+        header.push(("generationDateAndTime", date));
+    }
+    header.push(("numberOfEventIndicators", table.indicators.len().to_string()));
+    open(&mut w, "fmiModelDescription", &header);
     empty(
         &mut w,
         "ModelExchange",
@@ -629,7 +708,13 @@ fn guid_of(content: &str) -> String {
 }
 
 impl ModelDescription {
+    /// The description of a model with no package information (the runtime's own tests).
     pub fn of<M: Model>() -> ModelDescription {
+        Self::with_package::<M>(&Package::default())
+    }
+
+    /// The description of a model crate: `export_fmu!` passes its Cargo metadata and source date.
+    pub fn with_package<M: Model>(package: &Package) -> ModelDescription {
         let (model, _, table) = crate::model::declare::<M>();
         // Probe at a generic time inside the default experiment, not at its start, where a
         // sine source would hide its amplitude (sin 0 = 0).
@@ -642,10 +727,10 @@ impl ModelDescription {
         // An output never written is constant too: it is reported once, as never written.
         let fresh: Vec<String> = constant.into_iter().filter(|c| !problems.iter().any(|p| same_variable(p, c))).collect();
         problems.extend(fresh);
-        let draft = write_xml::<M>(&table, &structure);
+        let draft = write_xml::<M>(&table, &structure, package);
         let guid = guid_of(&draft);
         let xml = draft.replacen(GUID_PLACEHOLDER, &guid, 1);
-        ModelDescription { xml, guid, table, structure, problems }
+        ModelDescription { xml, guid, package: *package, table, structure, problems }
     }
 }
 
@@ -745,6 +830,38 @@ mod tests {
             assert!(!deps.as_ref().is_some_and(|s| s.contains(&9)));
         }
         assert_eq!(ModelDescription::of::<Decay>().xml.contains(r#"numberOfEventIndicators="0""#), true);
+    }
+
+    #[test]
+    fn the_package_gives_version_author_license_copyright_and_date() {
+        let package = Package { version: "1.2.3", authors: "The X contributors:Ada", license: "MIT", source_date_epoch: Some("1764625589") };
+        let d = ModelDescription::with_package::<Decay>(&package);
+        assert!(
+            d.xml.contains(r#"author="The X contributors, Ada" version="1.2.3" copyright="Copyright (c) 2025 The X contributors, Ada" license="MIT" generationTool="fmu-runtime"#),
+            "{}",
+            d.xml
+        );
+        assert!(d.xml.contains(r#"generationDateAndTime="2025-12-01T21:46:29Z" numberOfEventIndicators="0""#), "{}", d.xml);
+        // The same package gives the same guid; another date another one (the date is in the hashed XML).
+        assert_eq!(d.guid, ModelDescription::with_package::<Decay>(&package).guid);
+        let later = Package { source_date_epoch: Some("1764625590"), ..package };
+        assert_ne!(d.guid, ModelDescription::with_package::<Decay>(&later).guid);
+        // Without a package (or an unreadable date) the attributes are left out, not made up.
+        let bare = ModelDescription::of::<Decay>().xml;
+        let header = bare.lines().find(|l| l.starts_with("<fmiModelDescription")).unwrap();
+        for attribute in [" author=", " version=", " copyright=", " license=", " generationDateAndTime="] {
+            assert!(!header.contains(attribute), "{attribute}: {header}");
+        }
+        assert_eq!(Package { source_date_epoch: Some("yesterday"), ..package }.generation_date_and_time(), None);
+    }
+
+    #[test]
+    fn dates_are_utc_xs_date_times() {
+        assert_eq!(utc_date_time(0), "1970-01-01T00:00:00Z");
+        assert_eq!(utc_date_time(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(utc_date_time(1_700_000_000), "2023-11-14T22:13:20Z");
+        assert_eq!(utc_date_time(4_107_542_399), "2100-02-28T23:59:59Z");
+        assert_eq!(utc_date_time(-1), "1969-12-31T23:59:59Z");
     }
 
     #[test]

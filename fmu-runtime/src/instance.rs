@@ -410,8 +410,9 @@ impl<M: Model> Instance<M> {
         Ok(())
     }
 
-    /// Checks every parameter against its physical range and the model's own relations; a
-    /// violation moves the instance to the Error mode with a message naming the parameter.
+    /// Checks every parameter against its physical range and the model's own relations, then that
+    /// every value at the start is finite; a violation moves the instance to the Error mode with a
+    /// message naming the parameter.
     pub fn exit_initialization_mode(&mut self) -> CallResult {
         if let Err(message) = self.check_parameters() {
             self.mode = Mode::Error;
@@ -422,6 +423,10 @@ impl<M: Model> Instance<M> {
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
         self.settle_initial_modes()?;
+        if let Err(message) = crate::model::check_finite_start(&*self.model, &self.table, self.time, &self.values, &self.states) {
+            self.mode = Mode::Error;
+            return Err(Failure::error(format!("initialization failed: {message}")));
+        }
         if self.interface == Interface::ModelExchange {
             self.mode = Mode::EventMode;
             self.stale = true;

@@ -199,3 +199,116 @@ pub fn declare<M: Model>() -> (M, RuntimeVariables, crate::variables::VariableTa
     });
     (model, RuntimeVariables { extrapolate_inputs, state_events }, d.into_table())
 }
+
+/// The first derivative, calculated value (output, local, calculated parameter) or event
+/// indicator that is not finite at one point, or what the equations panicked with. The states
+/// are `states`, or (`None`) the start values with the calculated ones computed afresh.
+fn first_non_finite<M: Model>(model: &M, table: &crate::variables::VariableTable, time: f64, values: &crate::values::Values, states: Option<&[f64]>) -> Option<String> {
+    use crate::variables::Slot;
+    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let states = match states {
+            Some(x) => x.to_vec(),
+            None => {
+                let mut x: Vec<f64> = table.state_known_index.iter().map(|k| values.known[*k]).collect();
+                if let Err(message) = initialize_states(model, table, time, &values.known, &values.integers, &values.booleans, &mut x) {
+                    return Some(message);
+                }
+                x
+            }
+        };
+        let mut derivatives = vec![0.0; table.n_states];
+        let mut calculated = values.calculated.clone();
+        evaluate(model, time, &values.known, &states, &values.integers, &values.booleans, &mut derivatives, &mut calculated);
+        let mut z = vec![0.0; table.indicators.len()];
+        let k = Knowns::new(time, &values.known, &states, &values.integers, &values.booleans);
+        model.event_indicators(&k, &mut crate::values::EventIndicators::new(&mut z));
+        let bad = |x: f64| !x.is_finite();
+        for var in &table.variables {
+            let x = match var.slot {
+                Slot::Derivative(i) => derivatives[i],
+                Slot::Calculated(i) => calculated[i],
+                _ => continue,
+            };
+            if bad(x) {
+                return Some(format!("{} = {} is not finite", var.name, crate::variables::number(x)));
+            }
+        }
+        z.iter().position(|x| bad(*x)).map(|i| format!("event indicator '{}' = {} is not finite", table.indicators[i].0, z[i]))
+    }));
+    run.unwrap_or_else(|payload| {
+        let text = payload.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| payload.downcast_ref::<String>().cloned());
+        Some(format!("the equations panicked ({})", text.unwrap_or_else(|| "no message".into())))
+    })
+}
+
+/// At the end of initialization: every derivative, output, local, calculated parameter and event
+/// indicator at the start must be finite, so that a master never reads a silent NaN. A value
+/// inside its declared range can still be outside what the equations take (an inductance at its
+/// declared minimum, 2.2e-308 H, makes di/dt infinite); the message then names the parameters (or
+/// inputs, or state start values) responsible: those set away from their defaults whose default
+/// alone makes every value finite again.
+pub fn check_finite_start<M: Model>(model: &M, table: &crate::variables::VariableTable, time: f64, values: &crate::values::Values, states: &[f64]) -> Result<(), String> {
+    use crate::variables::{number, Slot, Start};
+    let Some(what) = first_non_finite(model, table, time, values, Some(states)) else { return Ok(()) };
+    let defaults = table.start_values();
+    let mut moved = Vec::new();
+    let mut culprits = Vec::new();
+    for var in table.variables.iter().filter(|v| v.is_settable_before_initialization()) {
+        let mut trial = values.clone();
+        let (now, default) = match (var.slot, var.start) {
+            (Slot::Known(i), Some(Start::Real(d))) if values.known[i].to_bits() != d.to_bits() => {
+                trial.known[i] = d;
+                (number(values.known[i]), number(d))
+            }
+            (Slot::Integer(i), _) if values.integers[i] != defaults.integers[i] => {
+                trial.integers[i] = defaults.integers[i];
+                (values.integers[i].to_string(), defaults.integers[i].to_string())
+            }
+            (Slot::Boolean(i), _) if values.booleans[i] != defaults.booleans[i] => {
+                trial.booleans[i] = defaults.booleans[i];
+                (values.booleans[i].to_string(), defaults.booleans[i].to_string())
+            }
+            _ => continue,
+        };
+        let text = format!("{} = {now}", var.name);
+        if first_non_finite(model, table, time, &trial, None).is_none() {
+            culprits.push(format!("{text} (finite with its default {default})"));
+        }
+        moved.push(text);
+    }
+    Err(if !culprits.is_empty() {
+        format!("at the start {what} with {}. Fix: give it a value the physics takes, inside its range", culprits.join(", "))
+    } else if !moved.is_empty() {
+        format!("at the start {what} with these values set away from their defaults: {}. Fix: choose values the physics takes", moved.join(", "))
+    } else {
+        format!("at the start {what} with the default values. Fix: the model's equations must give finite values at its defaults")
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_model::Block;
+    use crate::variables::Slot;
+
+    #[test]
+    fn a_value_the_equations_cannot_take_is_named_at_initialization() {
+        let (model, _, table) = declare::<Block>();
+        let mut values = table.start_values();
+        values.integers[0] = 1; // slipping forwards: der(v) = (u - F_c) / m
+        let states: Vec<f64> = table.state_known_index.iter().map(|k| values.known[*k]).collect();
+        assert_eq!(check_finite_start(&model, &table, 0.0, &values, &states), Ok(()));
+        let known = |name: &str| match table.by_name(name).unwrap().slot {
+            Slot::Known(i) => i,
+            _ => unreachable!(),
+        };
+        // m at its declared minimum alone is fine here: -1.5 / 2.2e-308 is still finite.
+        values.known[known("m")] = f64::MIN_POSITIVE;
+        assert_eq!(check_finite_start(&model, &table, 0.0, &values, &states), Ok(()));
+        // With a large force it is not: both values are named, each finite with its default.
+        values.known[known("u")] = 1e300;
+        let err = check_finite_start(&model, &table, 0.0, &values, &states).unwrap_err();
+        assert!(err.starts_with("at the start der(v) = inf is not finite with "), "{err}");
+        assert!(err.contains("m = 2.2250738585072014e-308 (finite with its default 1)") && err.contains("u = 1e300 (finite with its default 0)"), "{err}");
+    }
+}

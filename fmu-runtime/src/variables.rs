@@ -131,9 +131,6 @@ pub struct Variable {
     pub min: Option<f64>,
     pub max: Option<f64>,
     pub nominal: Option<f64>,
-    /// The value must be strictly above `min` (a physically positive quantity such as an
-    /// inductance); FMI's `min` is inclusive, so the XML says `min` and the runtime refuses `min` itself.
-    pub min_exclusive: bool,
     pub slot: Slot,
     /// For a state derivative, the value reference of its state.
     pub derivative_of: Option<u32>,
@@ -166,18 +163,17 @@ impl Variable {
             || (self.causality == Causality::Parameter && self.variability == Variability::Tunable)
     }
 
-    /// Checks a candidate value against the variable's declared range.
+    /// Checks a candidate value against the variable's declared range, inclusive at both ends:
+    /// exactly the range modelDescription.xml declares.
     pub fn check_range(&self, value: f64) -> Result<(), String> {
         let (name, v) = (&self.name, number(value));
         if !value.is_finite() {
             return Err(format!("{name} = {v} is not a finite number"));
         }
         if let Some(min) = self.min {
-            if self.min_exclusive && value <= min {
-                return Err(format!("{name} = {v} must be > {}", number(min)));
-            }
             if value < min {
-                return Err(format!("{name} = {v} is below its minimum {}", number(min)));
+                let positive = if min == SMALLEST_POSITIVE { " (a strictly positive quantity: it must be > 0)" } else { "" };
+                return Err(format!("{name} = {v} is below its minimum {}{positive}", number(min)));
             }
         }
         if let Some(max) = self.max {
@@ -188,6 +184,11 @@ impl Variable {
         Ok(())
     }
 }
+
+/// The `min` of a strictly positive quantity (`RealBuilder::positive`): the smallest positive
+/// normal double. FMI 2.0's `min` is inclusive, so a declared `min="0"` would promise that 0 is
+/// accepted; this bound is the closest to 0 that an inclusive range can say "above 0" with.
+pub const SMALLEST_POSITIVE: f64 = f64::MIN_POSITIVE;
 
 /// A variable name FMI masters and scripting languages can use: a letter, then letters, digits,
 /// '_'; `der(x)` for a state's derivative.
@@ -432,7 +433,6 @@ impl Declarations {
             min: None,
             max: None,
             nominal: None,
-            min_exclusive: false,
             slot,
             derivative_of: None,
         })
@@ -554,7 +554,6 @@ impl Declarations {
             min: None,
             max: None,
             nominal: None,
-            min_exclusive: false,
             slot,
             derivative_of: None,
         })
@@ -597,7 +596,6 @@ impl Declarations {
             min: None,
             max: None,
             nominal: None,
-            min_exclusive: false,
             slot: Slot::Integer(i),
             derivative_of: None,
         });
@@ -657,11 +655,11 @@ impl<H> RealBuilder<'_, H> {
         self
     }
 
-    /// Strictly positive (an inertia, an inductance, a capacitance): 0 and below are rejected.
+    /// Strictly positive (an inertia, an inductance, a capacitance): declares
+    /// `min` = [`SMALLEST_POSITIVE`] (inclusive, as FMI reads it), so 0 and below are refused and
+    /// the declared range is exactly what `fmi2SetReal` accepts.
     pub fn positive(mut self) -> Self {
-        let v = self.var();
-        v.min = Some(0.0);
-        v.min_exclusive = true;
+        self.var().min = Some(SMALLEST_POSITIVE);
         self
     }
 
@@ -807,8 +805,12 @@ mod tests {
         let mut d = Declarations::new();
         d.parameter("L", 0.01, "H").positive().describe("inductance");
         let t = d.into_table();
-        assert_eq!(t.variables[0].min, Some(0.0));
-        assert!(t.variables[0].check_range(0.0).unwrap_err().contains("L = 0 must be > 0"));
+        assert_eq!(t.variables[0].min, Some(f64::MIN_POSITIVE));
+        let err = t.variables[0].check_range(0.0).unwrap_err();
+        assert!(err.contains("L = 0 is below its minimum 2.2250738585072014e-308") && err.contains("must be > 0"), "{err}");
+        // The declared bound itself is accepted (FMI's min is inclusive), a subnormal below it is not.
+        assert!(t.variables[0].check_range(f64::MIN_POSITIVE).is_ok());
         assert!(t.variables[0].check_range(1e-300).is_ok());
+        assert!(t.variables[0].check_range(f64::MIN_POSITIVE / 2.0).is_err());
     }
 }

@@ -7,6 +7,7 @@ checker loads the binary (TOOLS.md).
 
 from __future__ import annotations
 
+import re
 import zipfile
 from ctypes import byref
 from pathlib import Path
@@ -25,6 +26,16 @@ def test_expected_fmus_are_built():
         f"missing in {DIST_DIR}: {', '.join(m + '.fmu' for m in missing)}; "
         "run `cargo run --release -p build-fmus` to build them"
     )
+
+
+def test_metadata_and_icon(fmu_path):
+    # version, author, license from the model crate's Cargo metadata; a reproducible source date
+    md = read_model_description(str(fmu_path))
+    assert md.version and md.author and md.license == "MIT", (md.version, md.author, md.license)
+    assert md.copyright == f"Copyright (c) {md.generationDateAndTime[:4]} {md.author}", md.copyright
+    assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", md.generationDateAndTime), md.generationDateAndTime
+    icon = zipfile.ZipFile(fmu_path).read("model.png")
+    assert icon.startswith(b"\x89PNG\r\n\x1a\n")
 
 
 def test_fmpy_validate(fmu_path):

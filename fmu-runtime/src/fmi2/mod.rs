@@ -24,8 +24,14 @@ pub struct Exported {
 }
 
 impl Exported {
+    /// A model's description without package information (the runtime's own tests).
     pub fn of<M: Model>() -> Exported {
-        let description = crate::description::ModelDescription::of::<M>();
+        Self::with_package::<M>(&crate::description::Package::default())
+    }
+
+    /// A model crate's description with its Cargo metadata and source date (`export_fmu!`).
+    pub fn with_package<M: Model>(package: &crate::description::Package) -> Exported {
+        let description = crate::description::ModelDescription::with_package::<M>(package);
         Exported {
             model_identifier: crate::log::to_c_string(M::info().name),
             guid: description.guid.clone(),

@@ -25,6 +25,7 @@
 use components::activity::activity_rate;
 use components::{CoulombFriction, DcMachine, Inertia, PropellerLoad, SpeedRamp, TorsionSpring};
 use fmu_runtime::prelude::*;
+use fmu_runtime::variables::number;
 
 mod documentation;
 
@@ -306,14 +307,18 @@ impl Model for ShaftLine {
         if k[self.t_seal_static] < k[self.t_seal_coulomb] {
             return Err(format!(
                 "T_seal_static = {} N m must not be below T_seal_coulomb = {} N m (a stuck seal holds at least the sliding friction)",
-                k[self.t_seal_static], k[self.t_seal_coulomb]
+                number(k[self.t_seal_static]),
+                number(k[self.t_seal_coulomb])
             ));
         }
         if !self.machine_constant(k).is_finite() {
             return Err(format!(
                 "no DC machine gives T_rated = {} N m at speed_rated = {} rad/s from U_rated = {} V through R_armature = {} Ohm \
                  (needs U_rated^2 >= 4 speed_rated R_armature T_rated)",
-                k[self.t_rated], k[self.speed_rated], k[self.u_rated], k[self.r_armature]
+                number(k[self.t_rated]),
+                number(k[self.speed_rated]),
+                number(k[self.u_rated]),
+                number(k[self.r_armature])
             ));
         }
         Ok(())

@@ -22,6 +22,7 @@ mod documentation;
 
 use components::{ThermalConductance, ThermalNode};
 use fmu_runtime::prelude::*;
+use fmu_runtime::variables::number;
 
 /// Where the Joule losses come from (`heat_source`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -202,7 +203,8 @@ impl Model for TractionMotorThermal {
         if k[self.winding_iron_drop_nominal] >= k[self.winding_rise_nominal] {
             return Err(format!(
                 "dT_winding_iron_nominal = {} K must be below dT_winding_nominal = {} K (the iron must be warmer than the air)",
-                k[self.winding_iron_drop_nominal], k[self.winding_rise_nominal]
+                number(k[self.winding_iron_drop_nominal]),
+                number(k[self.winding_rise_nominal])
             ));
         }
         Ok(())
