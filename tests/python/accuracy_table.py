@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import math
+import multiprocessing
 import os
 import pickle
 import re
@@ -239,7 +240,9 @@ def sweep(paths=None, tolerances=TOLERANCES, reference=REFERENCE_TOLERANCE, work
         for r in results:
             runs[r.fmu][r.tolerance] = r
     else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
+        # Spawned, not forked: a fork of a process that has FMU libraries loaded (and fmpy's or
+        # pytest's threads) copies their state mid-flight; a worker starts clean instead.
+        with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
             for r in pool.map(_task, tasks):
                 runs[r.fmu][r.tolerance] = r
     # An FMU that tightens the master's tolerance to a floor near (or past) the reference's own
