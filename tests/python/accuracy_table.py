@@ -235,24 +235,33 @@ def sweep(paths=None, tolerances=TOLERANCES, reference=REFERENCE_TOLERANCE, work
     tasks = [(str(p), tol, use_cache, digests[str(p)]) for tol in tols for p in paths]
     workers = workers or min(len(tasks), os.cpu_count() or 1)
     runs: dict[str, dict[float, Run]] = {p.stem: {} for p in paths}
-    if workers <= 1:
-        results = map(_task, tasks)
-        for r in results:
+
+    def reference_reruns():
+        # An FMU that tightens the master's tolerance to a floor near (or past) the reference's own
+        # tolerance would be compared with itself: its reference is run 100 x tighter than the
+        # floor (and kept under the key `reference`; its Run.tolerance says which it is).
+        for p in paths:
+            by_tol = runs[p.stem]
+            floors = [f for t, r in by_tol.items() if (f := floor_from_log(r.messages, t)) is not None and f > 0]
+            if floors and min(floors) < 100 * reference:
+                yield (str(p), min(floors) / 100, use_cache, digests[str(p)])
+
+    def run_all(mapper):
+        for r in mapper(_task, tasks):
             runs[r.fmu][r.tolerance] = r
+        for r in mapper(_task, list(reference_reruns())):
+            runs[r.fmu][reference] = r
+
+    if workers <= 1:
+        run_all(map)
     else:
         # Spawned, not forked: a fork of a process that has FMU libraries loaded (and fmpy's or
-        # pytest's threads) copies their state mid-flight; a worker starts clean instead.
+        # pytest's threads) copies their state mid-flight; a worker starts clean instead. Every
+        # simulation runs in a worker, none in the calling process: after an fmpy run with a
+        # Python logger callback in the pytest process, the fmucontainer FMU of
+        # test_coupled_masters.py crashed in fmi2Instantiate (SIGSEGV, with FMUs of any build).
         with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
-            for r in pool.map(_task, tasks):
-                runs[r.fmu][r.tolerance] = r
-    # An FMU that tightens the master's tolerance to a floor near (or past) the reference's own
-    # tolerance would be compared with itself: its reference is run 100 x tighter than the floor
-    # (and kept under the key `reference`; its Run.tolerance says which it is).
-    for p in paths:
-        by_tol = runs[p.stem]
-        floors = [f for t, r in by_tol.items() if (f := floor_from_log(r.messages, t)) is not None and f > 0]
-        if floors and min(floors) < 100 * reference:
-            by_tol[reference] = simulate(p, min(floors) / 100, use_cache=use_cache, digest=digests[str(p)])
+            run_all(pool.map)
     return runs
 
 
