@@ -257,9 +257,13 @@ def sweep(paths=None, tolerances=TOLERANCES, reference=REFERENCE_TOLERANCE, work
     else:
         # Spawned, not forked: a fork of a process that has FMU libraries loaded (and fmpy's or
         # pytest's threads) copies their state mid-flight; a worker starts clean instead. Every
-        # simulation runs in a worker, none in the calling process: after an fmpy run with a
-        # Python logger callback in the pytest process, the fmucontainer FMU of
-        # test_coupled_masters.py crashed in fmi2Instantiate (SIGSEGV, with FMUs of any build).
+        # simulation runs in a worker, none in the calling process: fmpy 0.3.32's variadic-logger
+        # shim (fmpy/logging/linux64/logging.so, logMessage) appears to keep the last Python logger callback
+        # it was given in a global, so after simulate_fmu(..., logger=f) had returned and f was
+        # collected, the next FMU that logs through the shim without a logger of its own (the
+        # fmucontainer FMU of test_coupled_masters.py, in fmi2Instantiate) jumped to the freed
+        # callback: SIGSEGV (gdb: logMessage <- logger_message <- container_configure; with FMUs
+        # of any build of ours).
         with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
             run_all(pool.map)
     return runs
