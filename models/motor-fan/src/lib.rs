@@ -304,17 +304,6 @@ impl Model for MotorFan {
         }
     }
 
-    /// Measured (tests/python/accuracy_table.py, rtol 1e-3..1e-8 against 1e-10): the explicit
-    /// solver's steps in the settled run are limited by the motor's stiff slip mode (eigenvalue
-    /// -155 /s at 20 s, h = 22.6 ms: h lambda = -3.50 against the method's stability boundary
-    /// -3.507), and the step-size controller's cycling leaves a speed ripple proportional to the
-    /// tolerance, which the activities integrate: errors about 2600 x rtol of their range
-    /// (2.6e-3 at 1e-6). At 1e-11 every output is within 2.7e-8 of its range (against 1e-13),
-    /// under 10 x 1e-8, for about twice the solver steps of 1e-8 (3555 against 1849 in 30 s).
-    fn tolerance_floor() -> Option<f64> {
-        Some(1e-11)
-    }
-
     fn declare(d: &mut Declarations) -> Self {
         MotorFan {
             level: d.integer_parameter("level", 3).range(1, 4).describe("Modelling level (Figure 3.5): 1 = a quasi-static, 2 = b + inertias, 3 = c + driveshaft elasticity, 4 = d + electrical dynamics"),
