@@ -62,13 +62,7 @@ def test_default_experiment_declares_a_tolerance(fmu_path):
 
 
 @pytest.mark.parametrize("tol", at.TOLERANCES, ids=[f"rtol{t:g}" for t in at.TOLERANCES])
-def test_every_output_within_ten_times_the_tolerance(fmu_path, tol, request):
-    if fmu_path.stem == "MotorFan":
-        # Not met yet, and reported (README, "Accuracy at the master's tolerance"): its explicit
-        # solver rides its stability limit on the slip mode (errors ~2600 x rtol); the floor 1e-11
-        # that met the rule made the stiff-shaft run of Figure 3.13 crawl (more than 200 000
-        # solver steps in one 10 ms doStep at t = 0.859 s). Strict: passing again fails the test.
-        request.applymarker(pytest.mark.xfail(strict=True, reason="MotorFan: errors ~2600 x rtol until a stiffness-capable method lands"))
+def test_every_output_within_ten_times_the_tolerance(fmu_path, tol):
     by_tol = runs_of(fmu_path)
     ref, run = by_tol[at.REFERENCE_TOLERANCE], by_tol[tol]
     assert ref.failure is None, f"{fmu_path.name}: the reference run at rtol {at.REFERENCE_TOLERANCE:g} failed: {ref.failure}"

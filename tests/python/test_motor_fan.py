@@ -84,6 +84,7 @@ SPEC_PARAMETERS = {
     "Kp_speed": ("Real", "N.m.s/rad", "tunable", 200.0),
     "Ki_speed": ("Real", "N.m/rad", "tunable", 2000.0),
     "T_limit": ("Real", "N.m", "tunable", 2500.0),
+    "T_tracking": ("Real", "s", "tunable", 0.09),
     "filter_frequency_below": ("Real", "Hz", "tunable", 0.5),
     "filter_frequency_above": ("Real", "Hz", "tunable", 5.0),
     "filter_damping": ("Real", "1", "tunable", 0.7),

@@ -89,36 +89,98 @@ impl Multiplier {
     }
 }
 
-/// A PI controller with an output limit and anti-windup by conditional integration.
+/// A PI controller with an output limit and anti-windup by back-calculation (tracking): while
+/// the command is clamped, the integral is also driven by the clamped part of the command,
+/// (u - raw) / (Ki T_t), so the raw command stays within Ki T_t |e| of the limit instead of
+/// winding up (Astrom & Hagglund; Modelica's `LimPID` does the same with T_t = Ni Ti).
+///
+/// The integral's rate is continuous in the error and the integral. Conditional integration
+/// (hold the integral while clamped and pushed further in) is not: where the free integral
+/// pushes the raw command up to the limit and the held one lets it fall back, the solution
+/// slides along the limit, and a variable-step solver chatters across the switch (MotorFan's
+/// PI start with the 5 Hz set-point filter needed more than 200 000 steps in one 10 ms
+/// communication step at rtol 1e-11).
 /// ```
 /// use components::PiController;
-/// let pi = PiController { proportional_gain: 200.0, integral_gain: 2000.0, output_limit: 2500.0 };
+/// let pi = PiController { proportional_gain: 200.0, integral_gain: 2000.0, output_limit: 2500.0, tracking_time_s: 0.09 };
 /// assert_eq!(pi.command(1.0, 0.1), 400.0); // Kp e + Ki integral
 /// assert_eq!(pi.command(100.0, 0.0), 2500.0); // clamped
-/// assert_eq!(pi.integral_rate(100.0, 0.0), 0.0); // no wind-up while clamped
+/// // Clamped: the error (100) less the excess (20 000 - 2 500) / (Ki T_t).
+/// assert!((pi.integral_rate(100.0, 0.0) - (100.0 - 17_500.0 / (2000.0 * 0.09))).abs() < 1e-9);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PiController {
     pub proportional_gain: f64,
     pub integral_gain: f64,
     pub output_limit: f64,
+    /// The anti-windup tracking time constant T_t, s (> 0).
+    pub tracking_time_s: f64,
 }
 
 impl PiController {
-    /// The command, clamped to +/- the limit.
-    pub fn command(&self, error: f64, integral: f64) -> f64 {
-        (self.proportional_gain * error + self.integral_gain * integral).clamp(-self.output_limit, self.output_limit)
+    /// The raw command Kp e + Ki integral, before the limit.
+    fn raw(&self, error: f64, integral: f64) -> f64 {
+        self.proportional_gain * error + self.integral_gain * integral
     }
 
-    /// d(integral)/dt: the error, except while the command is clamped and the error would push
-    /// it further into the limit (so the integral does not wind up).
+    /// The command, clamped to +/- the limit.
+    pub fn command(&self, error: f64, integral: f64) -> f64 {
+        self.raw(error, integral).clamp(-self.output_limit, self.output_limit)
+    }
+
+    /// d(integral)/dt: the error plus the tracking term (u - raw) / (Ki T_t), which is zero while
+    /// the command is within its limit. Without an integral gain the integral does not act on the
+    /// command, and it integrates the error alone.
     pub fn integral_rate(&self, error: f64, integral: f64) -> f64 {
-        let raw = self.proportional_gain * error + self.integral_gain * integral;
-        if (raw >= self.output_limit && error > 0.0) || (raw <= -self.output_limit && error < 0.0) {
-            0.0
-        } else {
-            error
+        if self.integral_gain == 0.0 {
+            return error;
         }
+        let raw = self.raw(error, integral);
+        let clamped = raw.clamp(-self.output_limit, self.output_limit);
+        error + (clamped - raw) / (self.integral_gain * self.tracking_time_s)
+    }
+
+    /// The event indicator of the limit's kinks, for a solver to stop at them rather than step
+    /// across (the command and the integral's rate have a corner there). Its `mode`: 0 within the
+    /// limits (indicator limit - |raw|), 1 clamped at +limit (raw - limit), -1 at -limit
+    /// (-limit - raw); a mode holds exactly while its indicator is positive. The equations do
+    /// not depend on the mode: it only marks the side.
+    pub fn limit_indicator(&self, mode: i32, error: f64, integral: f64) -> f64 {
+        let raw = self.raw(error, integral);
+        match mode {
+            1 => raw - self.output_limit,
+            -1 => -self.output_limit - raw,
+            _ => self.output_limit - raw.abs(),
+        }
+    }
+
+    /// The limit's mode after an event: the side of the limit the raw command is on; exactly at a
+    /// limit, the side it is heading to (`raw_rate`, d(raw)/dt), and where that is zero too the
+    /// mode holds. The answer depends on the current mode only there, so a repeated update
+    /// settles at once.
+    pub fn next_limit_mode(&self, mode: i32, error: f64, integral: f64, raw_rate: f64) -> i32 {
+        let (raw, limit) = (self.raw(error, integral), self.output_limit);
+        if raw > limit {
+            1
+        } else if raw < -limit {
+            -1
+        } else if raw.abs() < limit {
+            0
+        } else {
+            let outwards = raw_rate * raw;
+            if outwards > 0.0 {
+                raw.signum() as i32
+            } else if outwards < 0.0 {
+                0
+            } else {
+                mode
+            }
+        }
+    }
+
+    /// d(raw)/dt = Kp de/dt + Ki d(integral)/dt, for [`next_limit_mode`](Self::next_limit_mode).
+    pub fn raw_rate(&self, error: f64, error_rate: f64, integral: f64) -> f64 {
+        self.proportional_gain * error_rate + self.integral_gain * self.integral_rate(error, integral)
     }
 }
 
@@ -160,10 +222,58 @@ mod tests {
 
     #[test]
     fn pi_does_not_wind_up_in_saturation() {
-        let pi = PiController { proportional_gain: 10.0, integral_gain: 100.0, output_limit: 50.0 };
+        let pi = PiController { proportional_gain: 10.0, integral_gain: 100.0, output_limit: 50.0, tracking_time_s: 0.05 };
         assert_eq!(pi.command(100.0, 0.0), 50.0);
-        assert_eq!(pi.integral_rate(100.0, 0.0), 0.0, "clamped high, error positive: hold");
-        assert_eq!(pi.integral_rate(-1.0, 10.0), -1.0, "clamped high, error negative: unwind");
-        assert_eq!(pi.integral_rate(1.0, 0.0), 1.0);
+        assert_eq!(pi.integral_rate(1.0, 0.0), 1.0, "within the limit: the error");
+        // A constant error of 10 holds the command clamped (raw 100 + 100 I). Integrated by
+        // forward Euler for 2 s (40 T_t), the integral settles where its rate vanishes:
+        // raw = limit + Ki T_t e, i.e. I = (50 + 100 * 0.05 * 10 - 100) / 100 = 0 (independent
+        // of the start: from I = 3, raw 400, far into the limit).
+        let (mut integral, dt) = (3.0, 1e-4);
+        for _ in 0..20_000 {
+            integral += dt * pi.integral_rate(10.0, integral);
+        }
+        assert!(integral.abs() < 1e-9, "the integral winds down to 0, not up: {integral}");
+        assert_eq!(pi.command(10.0, integral), 50.0, "and the command stays at the limit");
+        // Unwinding: a negative error lowers the integral at once.
+        assert!(pi.integral_rate(-1.0, 10.0) < -1.0);
+    }
+
+    #[test]
+    fn pi_integral_rate_is_continuous_across_the_limit() {
+        let pi = PiController { proportional_gain: 10.0, integral_gain: 100.0, output_limit: 50.0, tracking_time_s: 0.05 };
+        // raw = 10 * 1 + 100 I reaches the limit 50 at I = 0.4.
+        for i in [0.4, -0.6] {
+            let below = pi.integral_rate(1.0, i - 1e-9);
+            let above = pi.integral_rate(1.0, i + 1e-9);
+            assert!((below - above).abs() < 1e-6, "at I = {i}: {below} vs {above}");
+        }
+    }
+
+    #[test]
+    fn pi_limit_mode_follows_the_side_of_the_limit() {
+        let pi = PiController { proportional_gain: 10.0, integral_gain: 100.0, output_limit: 50.0, tracking_time_s: 0.05 };
+        // raw = 10 e + 100 I.
+        assert_eq!(pi.next_limit_mode(0, 1.0, 0.5, 0.0), 1, "raw 60 > 50");
+        assert_eq!(pi.next_limit_mode(1, 1.0, 0.3, 0.0), 0, "raw 40 within");
+        assert_eq!(pi.next_limit_mode(0, -1.0, -0.5, 0.0), -1, "raw -60");
+        // Exactly at the limit (raw 50): the way it is heading decides, and a repeat agrees.
+        for mode in [0, 1] {
+            assert_eq!(pi.next_limit_mode(mode, 1.0, 0.4, 3.0), 1);
+            assert_eq!(pi.next_limit_mode(mode, 1.0, 0.4, -3.0), 0);
+            assert_eq!(pi.next_limit_mode(mode, 1.0, 0.4, 0.0), mode);
+        }
+        // Each mode holds exactly while its indicator is positive.
+        for (mode, e, i) in [(0, 1.0, 0.3), (1, 1.0, 0.5), (-1, -1.0, -0.5)] {
+            assert!(pi.limit_indicator(mode, e, i) > 0.0);
+            assert_eq!(pi.next_limit_mode(mode, e, i, 0.0), mode);
+        }
+        assert!(pi.limit_indicator(0, 1.0, 0.5) < 0.0 && pi.limit_indicator(1, 1.0, 0.3) < 0.0);
+    }
+
+    #[test]
+    fn pi_without_integral_gain_integrates_the_error() {
+        let pi = PiController { proportional_gain: 10.0, integral_gain: 0.0, output_limit: 50.0, tracking_time_s: 0.05 };
+        assert_eq!(pi.integral_rate(100.0, 7.0), 100.0);
     }
 }

@@ -114,6 +114,41 @@ impl FanParameters {
     }
 }
 
+/// The PI's torque limit as a state event: the command and the integral's rate have a corner
+/// where the raw command reaches +/- T_limit, and a solver stopped there (rather than stepping
+/// across) keeps its accuracy. Declares the mode `pi_limit` and its indicator.
+pub struct TorqueLimitEvent {
+    mode: Mode,
+    indicator: Indicator,
+}
+
+impl TorqueLimitEvent {
+    pub fn declare(d: &mut Declarations) -> Self {
+        TorqueLimitEvent {
+            mode: d.mode("pi_limit", 0).range(-1, 1).describe("Side of the PI's torque limit: 0 within, 1 clamped at +T_limit, -1 at -T_limit"),
+            indicator: d.event_indicator(
+                "pi_torque_limit",
+                "within the limit, T_limit - |Kp e + Ki integral|; clamped, how far the raw command is beyond the limit",
+            ),
+        }
+    }
+
+    /// The indicator with the PI driving at this error and integral.
+    pub fn indicator(&self, k: &Knowns, pi: &PiController, error: f64, integral: f64, z: &mut EventIndicators) {
+        z[self.indicator] = pi.limit_indicator(k[self.mode], error, integral);
+    }
+
+    /// The PI not driving (another start mode): never an event.
+    pub fn idle(&self, z: &mut EventIndicators) {
+        z[self.indicator] = 1.0;
+    }
+
+    /// The mode after an event; `error_rate` is de/dt (for the exact-limit case).
+    pub fn update(&self, k: &Knowns, next: &mut ModeUpdate, pi: &PiController, error: f64, error_rate: f64, integral: f64) {
+        next[self.mode] = pi.next_limit_mode(k[self.mode], error, integral, pi.raw_rate(error, error_rate, integral));
+    }
+}
+
 /// The variable-speed start: set-point ramp, optional second-order filter, PI controller.
 pub struct ControllerParameters {
     pub setpoint_filter: IntegerParameter,
@@ -122,6 +157,7 @@ pub struct ControllerParameters {
     kp: Parameter,
     ki: Parameter,
     t_limit: Parameter,
+    t_tracking: Parameter,
     filter_below: Parameter,
     filter_above: Parameter,
     filter_damping: Parameter,
@@ -139,6 +175,11 @@ impl ControllerParameters {
             kp: d.parameter("Kp_speed", 200.0, "N.m.s/rad").min(0.0).tunable().describe("PI speed controller proportional gain (chosen)"),
             ki: d.parameter("Ki_speed", 2000.0, "N.m/rad").min(0.0).tunable().describe("PI speed controller integral gain (chosen)"),
             t_limit: d.parameter("T_limit", 2500.0, "N.m").positive().tunable().describe("Torque limit of the converter-fed motor (chosen, ~2.4x rated)"),
+            t_tracking: d
+                .parameter("T_tracking", 0.09, "s")
+                .positive()
+                .tunable()
+                .describe("Anti-windup tracking time constant: while the torque is clamped, the PI integral is driven back by (T_clamped - T_raw) / (Ki_speed T_tracking) (chosen: 0.9 Kp_speed/Ki_speed)"),
             filter_below: d.parameter("filter_frequency_below", 0.5, "Hz").positive().tunable().describe("Set-point filter natural frequency below the 1.4 Hz resonance (Figure 3.13)"),
             filter_above: d.parameter("filter_frequency_above", 5.0, "Hz").positive().tunable().describe("Set-point filter natural frequency above the 1.4 Hz resonance (Figure 3.13)"),
             filter_damping: d.parameter("filter_damping", 0.7, "1").positive().tunable().describe("Set-point filter damping ratio"),
@@ -150,7 +191,7 @@ impl ControllerParameters {
     }
 
     pub fn controller(&self, k: &Knowns) -> PiController {
-        PiController { proportional_gain: k[self.kp], integral_gain: k[self.ki], output_limit: k[self.t_limit] }
+        PiController { proportional_gain: k[self.kp], integral_gain: k[self.ki], output_limit: k[self.t_limit], tracking_time_s: k[self.t_tracking] }
     }
 
     /// The set-point filter, if one is chosen.

@@ -19,7 +19,9 @@ Its steady state is the circuit's, so all levels settle to the same speed and to
 <li><code>level</code>: 1 = a (quasi-static: torque balance only), 2 = b (+ motor and fan inertias), 3 = c (+ driveshaft
 elasticity), 4 = d (+ electrical dynamics). Unused states stay frozen at their start values.</li>
 <li><code>start_mode</code>: 1 = direct on line; 2 = PI speed control through a converter (the torque follows the
-PI command, limited to T_limit, with anti-windup); 3 = inverse simulation (the motor speed is the set point, the
+PI command, limited to T_limit, with anti-windup by back-calculation: while clamped, the integral is driven by the
+clamped excess over Ki_speed T_tracking; where the raw command reaches the limit, the state event of
+indicator <code>pi_torque_limit</code> switches the mode <code>pi_limit</code>, so the solver stops at the corner); 3 = inverse simulation (the motor speed is the set point, the
 torque is what that takes). The set point ramps from 0 to speed_setpoint in ramp_time (10 s), optionally through a
 second-order filter (<code>setpoint_filter</code>: 0 off, 1 below, 2 above the 1.4 Hz resonance, Figure 3.13).
 In controlled starts the motor is converter-fed: level d's electrical dynamics are not used, the power drawn is

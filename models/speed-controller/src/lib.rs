@@ -3,13 +3,14 @@
 //! Coupling expected: InductionMotor.speed -> `measured_speed`, `torque_command` ->
 //! InductionMotor.torque_command (with InductionMotor.drive = 2).
 
-use drive_train::{ControllerParameters, SetPoint, subsystem_info};
+use drive_train::{ControllerParameters, SetPoint, TorqueLimitEvent, subsystem_info};
 use fmu_runtime::prelude::*;
 
 pub struct SpeedController {
     control: ControllerParameters,
     measured_speed: Input,
     integral: State,
+    torque_limit: TorqueLimitEvent,
     filtered: State,
     filtered_rate: State,
     y_torque_command: Output,
@@ -19,7 +20,8 @@ pub struct SpeedController {
 const DOCUMENTATION: &str = r#"
 <p>The speed control of the variable-speed start (chapter 3, section 3.3.2, Figures 3.7 and 3.13) as a subsystem:
 a set point ramping from 0 to speed_setpoint in ramp_time, optionally through a second-order filter, and a PI
-controller with a torque limit and anti-windup: torque_command = clamp(Kp e + Ki integral(e)), e = w_ref - measured_speed.</p>
+controller with a torque limit and anti-windup by back-calculation: torque_command = clamp(Kp e + Ki I), e = w_ref - measured_speed,
+dI/dt = e + (torque_command - (Kp e + Ki I)) / (Ki T_tracking).</p>
 <p>Coupling: speed in, torque out (direct feedthrough through Kp). The motor it drives takes torque in and gives its
 speed as a state, so no algebraic loop forms. The ramp's corners are announced as time events.</p>
 "#;
@@ -51,6 +53,7 @@ impl Model for SpeedController {
             control: ControllerParameters::declare(d),
             measured_speed: d.input("measured_speed", 0.0, "rad/s").describe("Measured motor speed (connect InductionMotor.speed)"),
             integral: d.state("pi_integral", 0.0, "rad").nominal(10.0).describe("Integral of the speed error"),
+            torque_limit: TorqueLimitEvent::declare(d),
             filtered: d.state("reference_filtered", 0.0, "rad/s").nominal(100.0).describe("Filtered speed set point (filter on; frozen otherwise)"),
             filtered_rate: d.state("reference_filtered_rate", 0.0, "rad/s2").nominal(10.0).describe("Rate of the filtered speed set point"),
             y_torque_command: d.output("torque_command", "N.m").describe("Torque command, clamped to +/- T_limit"),
@@ -60,6 +63,17 @@ impl Model for SpeedController {
 
     fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
         self.control.ramp(k).next_kink(after)
+    }
+
+    fn event_indicators(&self, k: &Knowns, z: &mut EventIndicators) {
+        let error = self.set_point(k).reference - k[self.measured_speed];
+        self.torque_limit.indicator(k, &self.control.controller(k), error, k[self.integral], z);
+    }
+
+    /// Exactly at the limit, the measured speed is taken as steady (its rate is not known here).
+    fn update_modes(&self, k: &Knowns, next: &mut ModeUpdate) {
+        let sp = self.set_point(k);
+        self.torque_limit.update(k, next, &self.control.controller(k), sp.reference - k[self.measured_speed], sp.rate, k[self.integral]);
     }
 
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
