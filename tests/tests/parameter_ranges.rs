@@ -110,7 +110,7 @@ fn refused_at_initialization(model: &str, reals: &[(&str, f64)], integers: &[(&s
 #[test]
 fn inconsistent_parameter_relations_are_refused_at_initialization() {
     // Two-node thermal model: the insulation cannot take more than the whole winding rise.
-    refused_at_initialization("TractionMotorThermal", &[("dT_winding_iron_nominal", 150.0)], &[], "dT_winding_iron_nominal");
+    refused_at_initialization("TractionMotorThermal", &[("dT_winding_iron_nominal", 150.0)], &[("thermal_data", 2)], "dT_winding_iron_nominal");
     // Inverse simulation needs a set point with a finite acceleration.
     refused_at_initialization("MotorFan", &[("ramp_time", 0.0)], &[("start_mode", 3), ("setpoint_filter", 0)], "ramp_time");
 }

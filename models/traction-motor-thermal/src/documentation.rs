@@ -9,8 +9,9 @@ P_J,nom = 5 kW, winding 140 K above a 40 &deg;C ambient.</p>
 <ul>
 <li>Overload torque at the same maximal speed: C = 1 MW / (4800 &times; 2&pi;/60 rad/s) = 1989.4 N m.</li>
 <li>Torque is proportional to current, Joule losses to its square: P_J = 5 kW &times; (1989.4/1400)<sup>2</sup> = 10.10 kW.</li>
-<li>Motor-to-air conductance from the nominal point: G = 5 kW / 140 K = 35.71 W/K. Steady overload rise:
-10.10 kW / 35.71 W/K = 282.7 K, i.e. a winding at 322.7 &deg;C if the overload lasted.</li>
+<li>Motor-to-air conductance from the nominal point: G = 5 kW / 140 K = 35.71 W/K (the book file: 1 / 0.0279 K/W =
+35.84 W/K). Steady overload rise: 10.10 kW / 35.71 W/K = 282.7 K, a winding at 322.7 &deg;C if the overload lasted
+(the book file's 10 kW: 279 K).</li>
 </ul>
 <h3>Equations (question 3)</h3>
 <ul>
@@ -18,37 +19,57 @@ P_J,nom = 5 kW, winding 140 K above a 40 &deg;C ambient.</p>
 <li>Two nodes (<code>nodes</code> = 2, Figure 3.23): C_winding dT_w/dt = P_J - G_wi (T_w - T_iron);
 C_iron dT_iron/dt = G_wi (T_w - T_iron) - G_ia (T_iron - T_ambient). The Joule losses heat the copper; the slot
 insulation (G_wi) separates it from the iron core, which the cooling air (G_ia) cools.</li>
-<li>Both levels share C_total = C_winding + C_iron and 1/G_total = 1/G_wi + 1/G_ia, hence the same steady states:
-they differ only in how fast the winding heats.</li>
+<li>Both levels share C_total = C_winding + C_iron; with <code>thermal_data</code> = 2 also 1/G_total = 1/G_wi + 1/G_ia,
+hence the same steady states (with the book file's values, 0.13 % apart: see below). They differ in how fast the
+winding heats.</li>
 </ul>
-<h3>Parameter values (question 4) and their reasoning</h3>
+<h3>Parameter values (question 4): the book's own file</h3>
+<p>The defaults are the values of the authors' Modelica file behind this problem,
+<code>Chap3_TGV_Modelisation_Thermique.mo</code> (repository marcbudinger/MultiphysicsModelingTechSys, <code>files/</code>;
+parameter values only, no code carried over), and the default experiment is that file's: a cold motor (40 &deg;C),
+a step of the Joule losses at t = 0, 10 000 s, results every 20 s.</p>
 <ul>
-<li>Conductances come from the nominal point: G_total = 5 kW / 140 K. The two-node split needs one more figure,
-the part of the 140 K that drops across the slot insulation; we take <code>dT_winding_iron_nominal</code> = 60 K
-(G_wi = 83.3 W/K) and 80 K from iron to air (G_ia = 62.5 W/K). In forced-ventilated machines with class-H
-insulation the drop across the slot liner and impregnation is typically a third to a half of the winding rise;
-60 K of 140 K sits in that range. It is a parameter so a user with better data can change it.</li>
-<li>Masses: a forced-ventilated traction motor of this class weighs about 1 kg per kW, so we take 700 kg in all.
-The copper winding is about 11 % of it, <code>m_winding</code> = 80 kg (specific heat 385 J/(kg K)): C_winding =
-30.8 kJ/K. The rest, <code>m_iron</code> = 620 kg of stator laminations, rotor with magnets, shaft and frame, is
-counted as steel (460 J/(kg K)): C_iron = 285.2 kJ/K. C_total = 316 kJ/K.</li>
-<li>Time constants: one node C_total/G_total = 8848 s (2.46 h); two nodes: the winding alone behind its insulation
-C_winding/G_wi = 370 s, the iron C_iron/G_ia = 4563 s.</li>
+<li>Two nodes (model ModeleTGV_2): copper <code>m_winding</code> = 50 kg &times; <code>c_winding</code> = 385 J/(kg K)
+(heatCapacitor, C_winding = 19 250 J/K); iron <code>m_iron</code> = 170 kg &times; <code>c_iron</code> = 444 J/(kg K)
+(heatCapacitor1, C_iron = 75 480 J/K); the slot insulation as a layer, R = e / (&lambda; A) with
+<code>e_insulation</code> = 0.6 mm, <code>lambda_insulation</code> = 0.14 W/(m K), <code>A_insulation</code> = 0.54 m<sup>2</sup>
+(RthCuivre, R = 7.937 mK/W, G_wi = 126.0 W/K); convection to the air R = 1 / (1 &times; 50), read as
+<code>A_cooling</code> = 1 m<sup>2</sup> and <code>h_cooling</code> = 50 W/(m<sup>2</sup> K) (RthFer, G_ia = 50 W/K).</li>
+<li>One node (model ModeleTGV_1): the same total capacity, 94 730 J/K (CapaThEq), and its own resistance
+<code>R_one_node</code> = 0.0279 K/W (ResistanceThEq). The two-node path in series is 0.027937 K/W: the file's two models
+differ by 0.13 % there, and each level here uses its own model's value. The chapter's nominal point (140 K at 5 kW)
+would be 0.0280 K/W; the file's 0.0279 gives 139.5 K.</li>
+<li>The loss step: <code>heat_source</code> = 4 with <code>P_joule_step</code> = 10 000 W, the file's record run
+("Fonctionnement record du monde"); its normal-service run steps 5 000 W. The text's route (questions 1-2: 1 MW at
+4800 rpm, hence 1989.4 N m and 10.10 kW) is <code>heat_source</code> = 1; the file rounds it to 10 kW, and its curves
+are the default.</li>
+<li>Time constants: one node C/G = 2643 s (44 min); two nodes: the winding behind its insulation C_winding/G_wi =
+153 s, the iron C_iron/G_ia = 1510 s.</li>
+<li>Easy to get wrong by hand: the cooling written 1 / (1 &times; 50) is h A = 50 W/K, not 1 W/K; the one-node R is
+0.0279, not the two-node sum.</li>
+<li>This project's first set (before the book file was read) stays reachable: <code>thermal_data</code> = 2 derives the
+conductances from the nominal point, G = P_J,nom / <code>dT_winding_nominal</code> (140 K), split by
+<code>dT_winding_iron_nominal</code> = 60 K across the insulation; with <code>m_winding</code> = 80 kg,
+<code>m_iron</code> = 620 kg, <code>c_iron</code> = 460 J/(kg K) (a 700 kg motor, about 1 kg per kW) and
+<code>heat_source</code> = 1 it gives 6049 s (one node) and 1407 s (two nodes) to the limit. It shows how much the
+answer rests on the mass counted as heating with the winding: the book's 220 kg reach the limit 3.3 times sooner
+(one node) than a whole 700 kg motor.</li>
 </ul>
 <h3>What the models answer (questions 5 and 6)</h3>
-<p>The overload step is applied at t_step (default 0) to a cold motor (<code>initial_state</code> = 1: winding and
-iron at the ambient temperature). The time for the winding to reach the insulation limit (default 180 &deg;C,
-the nominal steady winding temperature) is the output <code>time_to_limit</code>:</p>
+<p>From cold, the time for the winding to reach the insulation limit (default 180 &deg;C, the chapter's nominal winding
+temperature, 40 &deg;C + 140 K) is the output <code>time_to_limit</code>:</p>
 <ul>
-<li>one node: closed form t = -&tau; ln(1 - 140 K / 282.7 K) = 0.684 &tau; = 6049 s (101 min);</li>
-<li>two nodes: about 1407 s (23 min): the copper's small heat capacity heats quickly behind the insulation
-before the iron has moved. The one-node model is the least conservative: it promises four times the time the
-winding really has.</li>
+<li>10 kW record, one node: closed form t = -&tau; ln(1 - 140 K / 279 K) = 1841.5 s (30.7 min);</li>
+<li>10 kW record, two nodes: 979.2 s (16.3 min): the copper's small heat capacity heats quickly behind the insulation
+before the iron has moved. The one-node model is the least conservative: it promises 1.9 times the time the winding
+really has.</li>
+<li>5 kW in normal service: both stay below the limit (176.33 &deg;C and 179.04 &deg;C at 10 000 s, tending to 179.50
+and 179.68 &deg;C).</li>
 </ul>
-<p>Starting from the nominal steady state (<code>initial_state</code> = 2) the winding already sits at 180 &deg;C,
-the default limit, so <code>time_to_limit</code> is 0 there: that start answers "how hot after t seconds of
-overload from service", not "how long until the limit". Which initial state each output assumes is the one the
-parameter selects; the outputs themselves do not change meaning.</p>
+<p>These curves match the book's own result files (ModeleTGV_1.mat, ModeleTGV_2.mat) within 0.6 mK at 100, 1000,
+2000, 5000 and 10 000 s (tests/python/test_traction_motor_thermal.py). Starting from the nominal steady state
+(<code>initial_state</code> = 2) the winding sits at 179.5 &deg;C (one node) or 179.68 &deg;C (two nodes), just below
+the limit: that start answers "how hot after t seconds of overload from service", not "how long until the limit".</p>
 <h3>Outputs</h3>
 <ul>
 <li><code>T_winding</code>, <code>T_iron</code> (K; equal in the one-node model), <code>margin_to_limit</code> =
@@ -64,6 +85,7 @@ event time itself, whatever the communication step.</li>
 the winding reaches the limit.</li>
 <li><code>torque</code> and <code>P_joule</code>: the load. <code>heat_source</code> = 2 takes the torque from the
 input <code>torque_in</code> (another FMU's torque output, P_J = P_J,nom (C/C_nom)<sup>2</sup>, both signs heat),
-3 takes the losses directly from <code>P_joule_in</code>.</li>
+3 takes the losses directly from <code>P_joule_in</code>, 4 (the default) steps them to <code>P_joule_step</code> at
+<code>t_step</code> (the output <code>torque</code> is then the torque that gives them, C_nom (P_J / P_J,nom)<sup>1/2</sup>).</li>
 </ul>
 "#;

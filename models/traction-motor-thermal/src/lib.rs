@@ -8,15 +8,18 @@
 //!
 //! Two modelling levels (question 3), chosen by the structural parameter `nodes`:
 //! * `nodes = 1`: the whole motor is one body, C dT/dt = P_J - G (T - T_amb), with
-//!   C = C_winding + C_iron and G = P_J,nom / 140 K (the nominal point, question 4);
+//!   C = C_winding + C_iron;
 //! * `nodes = 2` (Figure 3.23): the winding (copper) and the iron core (with the rest of the
 //!   motor) are two nodes; the losses heat the winding, which passes its heat through the slot
-//!   insulation (G_wi) to the iron, which gives it to the cooling air (G_ia). The nominal 140 K
-//!   splits into `dT_winding_iron_nominal` across the insulation and the rest from iron to air.
+//!   insulation (G_wi) to the iron, which gives it to the cooling air (G_ia).
 //!
-//! Both levels have the same total heat capacity and the same steady state (G_wi and G_ia in
-//! series equal G), so they differ only in how fast the winding heats: the question the chapter
-//! asks (question 6).
+//! The values (question 4) are by default those of the book's own file
+//! (Chap3_TGV_Modelisation_Thermique.mo: 50 kg of copper, 170 kg of iron, the slot insulation as a
+//! 0.6 mm layer, convection 50 W/K, the one-node R = 0.0279 K/W, a 10 kW loss step);
+//! `thermal_data = 2` derives the conductances from the chapter's nominal rise instead
+//! (G = P_J,nom / 140 K, split by `dT_winding_iron_nominal`), this project's first set.
+//! The levels differ mainly in how fast the winding heats: the question the chapter asks
+//! (question 6).
 
 mod documentation;
 
@@ -33,6 +36,8 @@ enum HeatSource {
     TorqueInput,
     /// The input `P_joule_in`, in W.
     LossInput,
+    /// The built-in loss step `P_joule_step` from `t_step` on (the book file's experiment).
+    LossStep,
 }
 
 impl HeatSource {
@@ -40,6 +45,7 @@ impl HeatSource {
         match code {
             2 => HeatSource::TorqueInput,
             3 => HeatSource::LossInput,
+            4 => HeatSource::LossStep,
             _ => HeatSource::PowerStep,
         }
     }
@@ -57,8 +63,17 @@ pub struct TractionMotorThermal {
     mass_iron: Parameter,
     specific_heat_iron: Parameter,
     winding_iron_drop_nominal: Parameter,
+    // The book file's thermal data.
+    thermal_data: IntegerParameter,
+    insulation_thickness: Parameter,
+    insulation_conductivity: Parameter,
+    insulation_area: Parameter,
+    cooling_coefficient: Parameter,
+    cooling_area: Parameter,
+    resistance_one_node: Parameter,
     // The experiment.
     mechanical_power_step: Parameter,
+    joule_losses_step: Parameter,
     t_step: Parameter,
     insulation_limit: Parameter,
     nodes: IntegerParameter,
@@ -94,25 +109,47 @@ struct Network {
     iron: ThermalNode,
     winding_to_iron: ThermalConductance,
     iron_to_ambient: ThermalConductance,
+    /// The one-node model's path to the air: the two in series, or the book file's own R.
+    body_to_ambient: ThermalConductance,
 }
 
 impl Network {
-    /// The motor as one body: capacities add, conductances in series.
+    /// The motor as one body: capacities add.
     fn one_body(&self) -> (ThermalNode, ThermalConductance) {
-        (self.winding.merged_with(&self.iron), self.winding_to_iron.in_series_with(&self.iron_to_ambient))
+        (self.winding.merged_with(&self.iron), self.body_to_ambient)
     }
 }
 
 impl TractionMotorThermal {
     fn network(&self, k: &Knowns) -> Network {
-        let losses = k[self.joule_losses_nominal];
-        let insulation_drop = k[self.winding_iron_drop_nominal];
-        Network {
-            winding: ThermalNode::of_mass(k[self.mass_winding], k[self.specific_heat_winding]),
-            iron: ThermalNode::of_mass(k[self.mass_iron], k[self.specific_heat_iron]),
-            winding_to_iron: ThermalConductance::from_operating_point(losses, insulation_drop),
-            iron_to_ambient: ThermalConductance::from_operating_point(losses, k[self.winding_rise_nominal] - insulation_drop),
+        let winding = ThermalNode::of_mass(k[self.mass_winding], k[self.specific_heat_winding]);
+        let iron = ThermalNode::of_mass(k[self.mass_iron], k[self.specific_heat_iron]);
+        if self.book_data(k) {
+            Network {
+                winding,
+                iron,
+                winding_to_iron: ThermalConductance::through_layer(k[self.insulation_thickness], k[self.insulation_conductivity], k[self.insulation_area]),
+                iron_to_ambient: ThermalConductance::convection(k[self.cooling_coefficient], k[self.cooling_area]),
+                body_to_ambient: ThermalConductance::of_resistance(k[self.resistance_one_node]),
+            }
+        } else {
+            let losses = k[self.joule_losses_nominal];
+            let insulation_drop = k[self.winding_iron_drop_nominal];
+            let winding_to_iron = ThermalConductance::from_operating_point(losses, insulation_drop);
+            let iron_to_ambient = ThermalConductance::from_operating_point(losses, k[self.winding_rise_nominal] - insulation_drop);
+            Network { winding, iron, winding_to_iron, iron_to_ambient, body_to_ambient: winding_to_iron.in_series_with(&iron_to_ambient) }
         }
+    }
+
+    /// Conductances from the book file's resistances (`thermal_data` = 1), else from the
+    /// nominal rises.
+    fn book_data(&self, k: &Knowns) -> bool {
+        k[self.thermal_data] == 1
+    }
+
+    /// A built-in step (`heat_source` 1 or 4) is on at the current time.
+    fn step_on(&self, k: &Knowns) -> bool {
+        k.time() >= k[self.t_step]
     }
 
     fn latched(&self, k: &Knowns) -> bool {
@@ -126,10 +163,13 @@ impl TractionMotorThermal {
     /// The motor torque, N m (question 1 for the built-in step: C = P / w_max).
     fn torque_n_m(&self, k: &Knowns) -> f64 {
         match HeatSource::of(k[self.heat_source]) {
-            HeatSource::PowerStep if k.time() >= k[self.t_step] => k[self.mechanical_power_step] / k[self.speed_max],
+            HeatSource::PowerStep if self.step_on(k) => k[self.mechanical_power_step] / k[self.speed_max],
             HeatSource::PowerStep => 0.0,
             HeatSource::TorqueInput => k[self.torque_in],
             HeatSource::LossInput => 0.0,
+            // The torque whose losses the step gives: C_nom sqrt(P_J / P_J,nom).
+            HeatSource::LossStep if self.step_on(k) => k[self.torque_nominal] * (k[self.joule_losses_step] / k[self.joule_losses_nominal]).sqrt(),
+            HeatSource::LossStep => 0.0,
         }
     }
 
@@ -137,6 +177,8 @@ impl TractionMotorThermal {
     fn joule_losses_w(&self, k: &Knowns) -> f64 {
         match HeatSource::of(k[self.heat_source]) {
             HeatSource::LossInput => k[self.joule_losses_in],
+            HeatSource::LossStep if self.step_on(k) => k[self.joule_losses_step],
+            HeatSource::LossStep => 0.0,
             _ => k[self.joule_losses_nominal] * (self.torque_n_m(k) / k[self.torque_nominal]).powi(2),
         }
     }
@@ -147,7 +189,8 @@ impl Model for TractionMotorThermal {
         ModelInfo {
             name: "TractionMotorThermal",
             description: "Winding and iron temperatures of the TGV V150 traction motor (700 kW nominal, 1 MW overload) with a one- or two-node thermal model, and the time to reach the insulation limit (chapter 3, section 3.5.1)",
-            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 20_000.0, step_size: 10.0 },
+            // The book file's experiment (ModeleTGV_1 and _2): 10 000 s, results every 20 s.
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 10_000.0, step_size: 20.0 },
             solver: Solver::ExplicitRungeKutta,
             documentation: documentation::HTML,
         }
@@ -159,18 +202,26 @@ impl Model for TractionMotorThermal {
             torque_nominal: d.parameter("torque_nominal", 1400.0, "N.m").positive().describe("Nominal torque C_nom (section 3.5.1: 1400 N m at 4800 rpm)"),
             speed_max: d.parameter("speed_max", 4800.0 * rpm, "rad/s").positive().describe("Nominal and maximal speed, 4800 rpm (section 3.5.1); the overload keeps it (question 1)"),
             joule_losses_nominal: d.parameter("P_joule_nominal", 5000.0, "W").positive().describe("Joule losses at the nominal point (section 3.5.1: 5 kW)"),
-            winding_rise_nominal: d.parameter("dT_winding_nominal", 140.0, "K").positive().describe("Steady winding temperature rise over ambient at the nominal point (section 3.5.1: 140 K)"),
-            mass_winding: d.parameter("m_winding", 80.0, "kg").positive().describe("Mass of the copper winding (chosen: about 11 % of a 700 kg motor, see documentation)"),
-            specific_heat_winding: d.parameter("c_winding", 385.0, "J/(kg.K)").positive().describe("Specific heat of copper"),
-            mass_iron: d.parameter("m_iron", 620.0, "kg").positive().describe("Mass of the rest of the motor: stator core, rotor, magnets, frame (chosen, see documentation)"),
-            specific_heat_iron: d.parameter("c_iron", 460.0, "J/(kg.K)").positive().describe("Specific heat of electrical steel and iron"),
-            winding_iron_drop_nominal: d.parameter("dT_winding_iron_nominal", 60.0, "K").positive().describe("Two-node model: part of the nominal 140 K rise across the slot insulation, winding to iron (chosen, see documentation); must be below dT_winding_nominal"),
+            winding_rise_nominal: d.parameter("dT_winding_nominal", 140.0, "K").positive().describe("Steady winding temperature rise over ambient at the nominal point (section 3.5.1: 140 K); sets the conductances with thermal_data = 2"),
+            mass_winding: d.parameter("m_winding", 50.0, "kg").positive().describe("Mass of the copper winding (book file Chap3_TGV_Modelisation_Thermique.mo, ModeleTGV_2, heatCapacitor: C = 385 * 50; this project's first set: 80)"),
+            specific_heat_winding: d.parameter("c_winding", 385.0, "J/(kg.K)").positive().describe("Specific heat of copper (book file, ModeleTGV_2, heatCapacitor)"),
+            mass_iron: d.parameter("m_iron", 170.0, "kg").positive().describe("Mass of the iron core (book file, ModeleTGV_2, heatCapacitor1: C = 444 * 170; this project's first set: 620, the whole rest of the motor)"),
+            specific_heat_iron: d.parameter("c_iron", 444.0, "J/(kg.K)").positive().describe("Specific heat of the iron (book file, ModeleTGV_2, heatCapacitor1; this project's first set: 460)"),
+            winding_iron_drop_nominal: d.parameter("dT_winding_iron_nominal", 60.0, "K").positive().describe("thermal_data = 2, two nodes: part of the nominal 140 K rise across the slot insulation, winding to iron (chosen, see documentation); must be below dT_winding_nominal"),
+            thermal_data: d.integer_parameter("thermal_data", 1).range(1, 2).describe("Conductances from: 1 = the book file's resistances (insulation layer, convection, R_one_node), 2 = the nominal rises dT_winding_nominal and dT_winding_iron_nominal (this project's first set)"),
+            insulation_thickness: d.parameter("e_insulation", 0.6e-3, "m").positive().describe("Slot insulation thickness, winding to iron (book file, ModeleTGV_2, RthCuivre: R = 0.6e-3 / (140e-3 * 0.54))"),
+            insulation_conductivity: d.parameter("lambda_insulation", 0.14, "W/(m.K)").positive().describe("Thermal conductivity of the slot insulation (book file, ModeleTGV_2, RthCuivre)"),
+            insulation_area: d.parameter("A_insulation", 0.54, "m2").positive().describe("Area of the slot insulation (book file, ModeleTGV_2, RthCuivre)"),
+            cooling_coefficient: d.parameter("h_cooling", 50.0, "W/(m2.K)").positive().describe("Heat transfer coefficient, iron to cooling air (book file, ModeleTGV_2, RthFer: R = 1 / (1 * 50), read as A_cooling = 1 m2 and h = 50 W/(m2 K))"),
+            cooling_area: d.parameter("A_cooling", 1.0, "m2").positive().describe("Cooled surface of the iron (book file, ModeleTGV_2, RthFer)"),
+            resistance_one_node: d.parameter("R_one_node", 0.0279, "K/W").positive().describe("One-node model, motor to air (book file, ModeleTGV_1, ResistanceThEq; the two-node path in series is 0.027937)"),
             mechanical_power_step: d.parameter("P_mechanical_step", 1.0e6, "W").min(0.0).tunable().describe("Built-in operating point (heat_source = 1): mechanical power from t_step on, at speed_max (section 3.5.1: the 1 MW overload)"),
+            joule_losses_step: d.parameter("P_joule_step", 10_000.0, "W").min(0.0).tunable().describe("Built-in loss step (heat_source = 4) from t_step on (book file, PertesPuissance2 / step1: 10 000 W for the record, 5 000 W in normal service)"),
             t_step: d.parameter("t_step", 0.0, "s").min(0.0).describe("Built-in operating point: time of the loss step (question 5: losses as a step)"),
-            insulation_limit: d.parameter("T_insulation_limit", 453.15, "K").positive().describe("Winding insulation limit: default 180 C, the nominal steady winding temperature (40 C + 140 K)"),
+            insulation_limit: d.parameter("T_insulation_limit", 453.15, "K").positive().describe("Winding insulation limit: default 180 C, the chapter's nominal winding temperature (40 C + 140 K)"),
             nodes: d.integer_parameter("nodes", 2).range(1, 2).describe("Modelling level (question 3): 1 = whole motor at one temperature, 2 = winding and iron core (Figure 3.23)"),
-            heat_source: d.integer_parameter("heat_source", 1).range(1, 3).describe("Joule losses from: 1 = built-in power step P_mechanical_step at speed_max, 2 = input torque_in (P_J = P_J,nom (C/C_nom)^2), 3 = input P_joule_in"),
-            start: d.integer_parameter("initial_state", 1).range(1, 2).describe("Initial temperatures: 1 = cold (everything at the ambient temperature), 2 = the nominal steady state (winding at ambient + dT_winding_nominal)"),
+            heat_source: d.integer_parameter("heat_source", 4).range(1, 4).describe("Joule losses from: 1 = built-in power step P_mechanical_step at speed_max (the chapter's questions 1-2), 2 = input torque_in (P_J = P_J,nom (C/C_nom)^2), 3 = input P_joule_in, 4 = built-in loss step P_joule_step (the book file's experiment)"),
+            start: d.integer_parameter("initial_state", 1).range(1, 2).describe("Initial temperatures: 1 = cold (everything at the ambient temperature), 2 = the steady state under P_joule_nominal"),
             torque_in: d.input("torque_in", 0.0, "N.m").describe("Motor torque when heat_source = 2 (e.g. another FMU's torque output)"),
             joule_losses_in: d.input("P_joule_in", 0.0, "W").describe("Joule losses when heat_source = 3"),
             ambient: d.input("T_ambient", 313.15, "K").min(0.0).describe("Ambient (cooling air) temperature (section 3.5.1: 40 C)"),
@@ -187,20 +238,20 @@ impl Model for TractionMotorThermal {
             y_margin: d.output("margin_to_limit", "K").describe("T_insulation_limit - T_winding: negative beyond the limit"),
             y_time_to_limit: d.output("time_to_limit", "s").describe("Time from the start of the simulation at which the winding first reached T_insulation_limit; while limit_reached = 0, the time elapsed so far (a lower bound)"),
             y_limit_reached: d.output("limit_reached", "1").discrete().describe("1 from the instant the winding first reaches T_insulation_limit on (a state event), else 0"),
-            y_torque: d.output("torque", "N.m").describe("Motor torque producing the losses (0 with heat_source = 3, where the losses are given directly)"),
+            y_torque: d.output("torque", "N.m").describe("Motor torque producing the losses (0 with heat_source = 3, where the losses are given directly; with heat_source = 4, C_nom sqrt(P_joule_step / P_joule_nominal))"),
             y_losses: d.output("P_joule", "W").describe("Joule losses heating the winding"),
             c_winding: d.calculated_parameter("C_winding", "J/K").describe("Heat capacity of the winding, m_winding c_winding"),
             c_iron: d.calculated_parameter("C_iron", "J/K").describe("Heat capacity of the iron node, m_iron c_iron"),
             c_total: d.calculated_parameter("C_total", "J/K").describe("Heat capacity of the whole motor (one-node model)"),
-            g_winding_iron: d.calculated_parameter("G_winding_iron", "W/K").describe("Winding-to-iron conductance, P_joule_nominal / dT_winding_iron_nominal"),
-            g_iron_ambient: d.calculated_parameter("G_iron_ambient", "W/K").describe("Iron-to-ambient conductance, P_joule_nominal / (dT_winding_nominal - dT_winding_iron_nominal)"),
-            g_total: d.calculated_parameter("G_total", "W/K").describe("Motor-to-ambient conductance of the one-node model, P_joule_nominal / dT_winding_nominal"),
+            g_winding_iron: d.calculated_parameter("G_winding_iron", "W/K").describe("Winding-to-iron conductance: lambda_insulation A_insulation / e_insulation (thermal_data = 1), P_joule_nominal / dT_winding_iron_nominal (2)"),
+            g_iron_ambient: d.calculated_parameter("G_iron_ambient", "W/K").describe("Iron-to-ambient conductance: h_cooling A_cooling (thermal_data = 1), P_joule_nominal / (dT_winding_nominal - dT_winding_iron_nominal) (2)"),
+            g_total: d.calculated_parameter("G_total", "W/K").describe("Motor-to-ambient conductance of the one-node model: 1 / R_one_node (thermal_data = 1), P_joule_nominal / dT_winding_nominal (2)"),
             tau_one_node: d.calculated_parameter("time_constant_one_node", "s").describe("Time constant of the one-node model, C_total / G_total"),
         }
     }
 
     fn check(&self, k: &Knowns) -> Result<(), String> {
-        if k[self.winding_iron_drop_nominal] >= k[self.winding_rise_nominal] {
+        if !self.book_data(k) && k[self.winding_iron_drop_nominal] >= k[self.winding_rise_nominal] {
             return Err(format!(
                 "dT_winding_iron_nominal = {} K must be below dT_winding_nominal = {} K (the iron must be warmer than the air)",
                 number(k[self.winding_iron_drop_nominal]),
@@ -211,7 +262,8 @@ impl Model for TractionMotorThermal {
     }
 
     fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
-        (HeatSource::of(k[self.heat_source]) == HeatSource::PowerStep && k[self.t_step] > after).then_some(k[self.t_step])
+        let stepped = matches!(HeatSource::of(k[self.heat_source]), HeatSource::PowerStep | HeatSource::LossStep);
+        (stepped && k[self.t_step] > after).then_some(k[self.t_step])
     }
 
     /// The insulation limit is a state event: while unlatched, the indicator is the margin
@@ -233,12 +285,17 @@ impl Model for TractionMotorThermal {
     fn initial_states(&self, k: &Knowns, x0: &mut InitialStates) {
         let ambient = k[self.ambient];
         let (winding, iron) = if k[self.start] == 2 {
-            // The nominal steady state: the nominal losses cross both conductances.
+            // The nominal steady state: the nominal losses cross both conductances (one node:
+            // the body's own path).
             let n = self.network(k);
             let losses = k[self.joule_losses_nominal];
-            let iron = ambient + n.iron_to_ambient.steady_drop_k(losses);
-            let winding = iron + n.winding_to_iron.steady_drop_k(losses);
-            (winding, if self.two_nodes(k) { iron } else { winding })
+            if self.two_nodes(k) {
+                let iron = ambient + n.iron_to_ambient.steady_drop_k(losses);
+                (iron + n.winding_to_iron.steady_drop_k(losses), iron)
+            } else {
+                let body = ambient + n.body_to_ambient.steady_drop_k(losses);
+                (body, body)
+            }
         } else {
             (ambient, ambient)
         };
