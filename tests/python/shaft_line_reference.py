@@ -11,8 +11,10 @@ w_p (propeller speed), seal mode m in {-1 slipping backwards, 0 stuck, +1 slippi
     J_p dw_p/dt   = T_shaft - a w_p |w_p| - T_c m        if m = +-1   (propeller + half the shaft; seal slips)
     dw_p/dt       = 0                                    if m = 0     (seal stuck: w_p = 0)
 
-with k from the rated point (U_rated = R I + k w_rated, T_rated = k I: the larger root of
-k^2 w_rated - U_rated k + R T_rated = 0) and a = T_rated / w_rated^2.
+with k = k_emf (emf_constant = 1, the book file's value) or from the rated point (emf_constant = 2:
+U_rated = R I + k w_rated, T_rated = k I, the larger root of k^2 w_rated - U_rated k + R T_rated = 0),
+and a = T_propeller_nominal / speed_propeller_nominal^2; the propeller torque is a w |w|
+(propeller_law = 1) or a w^2 (propeller_law = 2, the book's ReducedModel).
 
 Stick/slip of the seal, segment by segment with solve_ivp (Radau, rtol 1e-10) and terminal events:
   * slipping (m = +-1): the segment ends when w_p crosses 0; there the torque the seal must hold,
@@ -22,7 +24,9 @@ Stick/slip of the seal, segment by segment with solve_ivp (Radau, rtol 1e-10) an
 Supply U(t): 0 -> U_max over ramp_time, U_max for plateau_time, 0 V (short circuit) after; the kinks
 at ramp_time and ramp_time + plateau_time end segments too.
 
-Reduced model (model_reduction = 1, spec "Model reduction"): see `simulate_reduced`.
+Reduced models (spec, "Model reduction"): model_reduction = 1, the book's ReducedModel (a rigid line
+without the motor inertia; bearings and seal kept), is `simulate` with `structure="book_reduced"`:
+the same segment logic on the states (i, w); model_reduction = 2 is `simulate_reduced`.
 """
 
 from __future__ import annotations
@@ -37,6 +41,8 @@ import numpy as np
 class ShaftLineParams:
     """The physical parameters (names as in modelDescription.xml)."""
 
+    emf_constant: int
+    k_emf: float
     T_rated: float
     speed_rated: float
     U_rated: float
@@ -46,6 +52,9 @@ class ShaftLineParams:
     J_motor: float
     b_motor_bearings: float
     J_propeller: float
+    T_propeller_nominal: float
+    speed_propeller_nominal: float
+    propeller_law: int
     K_shaft: float
     J_shaft: float
     D_shaft: float
@@ -56,19 +65,26 @@ class ShaftLineParams:
 
     @classmethod
     def from_values(cls, values: dict) -> "ShaftLineParams":
-        return cls(**{f.name: float(values[f.name]) for f in fields(cls)})
+        return cls(**{f.name: int(values[f.name]) if f.type == "int" else float(values[f.name]) for f in fields(cls)})
 
     # -- derived values (spec, "Derived parameters") ----------------------------------------------
     @property
     def k(self) -> float:
-        """Machine constant, V s/rad = N m/A: the larger root of k^2 w - U k + R T = 0 (rated point)."""
+        """Machine constant, V s/rad = N m/A: k_emf, or (emf_constant = 2) the larger root of
+        k^2 w - U k + R T = 0 (rated point)."""
+        if self.emf_constant == 1:
+            return self.k_emf
         w, u, r, t = self.speed_rated, self.U_rated, self.R_armature, self.T_rated
         return (u + math.sqrt(u * u - 4.0 * w * r * t)) / (2.0 * w)
 
     @property
     def a(self) -> float:
-        """Propeller coefficient, T = a w^2, from the rated point: N m s2/rad2."""
-        return self.T_rated / self.speed_rated**2
+        """Propeller coefficient, T = a w^2 at the propeller's nominal point: N m s2/rad2."""
+        return self.T_propeller_nominal / self.speed_propeller_nominal**2
+
+    def propeller_torque(self, w: float) -> float:
+        """a w |w| (propeller_law 1), or a w^2 whatever the direction (propeller_law 2)."""
+        return self.a * w * (w if self.propeller_law == 2 else abs(w))
 
     @property
     def J_m(self) -> float:
@@ -119,91 +135,146 @@ def steady_state(p: ShaftLineParams) -> dict:
     }
 
 
-def _required_seal_torque(p: ShaftLineParams, y) -> float:
-    i, w_m, theta, w_p = y
-    t_shaft = p.K_shaft * theta + p.D_shaft * (w_m - w_p)
-    return t_shaft - p.a * w_p * abs(w_p)
+class _Full:
+    """States (i, w_m, theta, w_p): motor end, elastic shaft, propeller end with the seal."""
+
+    speed = 3  # index of the speed the seal rubs on
+    atol = np.array([1e-6, 1e-9, 1e-12, 1e-9])
+
+    def __init__(self, p: ShaftLineParams):
+        self.p = p
+
+    def shaft_torque(self, y):
+        p = self.p
+        return p.K_shaft * y[2] + p.D_shaft * (y[1] - y[3])
+
+    def required(self, y) -> float:
+        """The torque the seal must take to hold the propeller still."""
+        return self.shaft_torque(y) - self.p.propeller_torque(y[3])
+
+    def rhs(self, mode: int):
+        p = self.p
+
+        def f(t, y):
+            i, w_m, theta, w_p = y
+            t_shaft = self.shaft_torque(y)
+            di = (p.supply(t) - p.R_armature * i - p.k * w_m) / p.L_armature
+            dw_m = (p.k * i - p.b_motor_bearings * w_m - t_shaft) / p.J_m
+            dw_p = 0.0 if mode == 0 else (t_shaft - p.propeller_torque(w_p) - p.T_seal_coulomb * mode) / p.J_p
+            return [di, dw_m, w_m - w_p, dw_p]
+
+        return f
+
+    def jac(self, mode: int):
+        p = self.p
+        k, r, l, b, kk, d = p.k, p.R_armature, p.L_armature, p.b_motor_bearings, p.K_shaft, p.D_shaft
+
+        def jac(t, y):
+            j = np.zeros((4, 4))
+            j[0] = [-r / l, -k / l, 0.0, 0.0]
+            j[1] = [k / p.J_m, (-b - d) / p.J_m, -kk / p.J_m, d / p.J_m]
+            j[2] = [0.0, 1.0, 0.0, -1.0]
+            if mode != 0:
+                j[3] = [0.0, d / p.J_p, kk / p.J_p, (-d - _load_slope(p, y[3])) / p.J_p]
+            return j
+
+        return jac
 
 
-def _rhs(p: ShaftLineParams, mode: int):
-    k, a, r, l, b = p.k, p.a, p.R_armature, p.L_armature, p.b_motor_bearings
+class _BookReduced:
+    """The book's ReducedModel, states (i, w): no motor inertia, a rigid shaft; the motor bearings and
+    the seal act on the one body, the propeller inertia. What the motor passes on: k i - b w."""
 
-    def f(t, y):
-        i, w_m, theta, w_p = y
-        t_shaft = p.K_shaft * theta + p.D_shaft * (w_m - w_p)
-        di = (p.supply(t) - r * i - k * w_m) / l
-        dw_m = (k * i - b * w_m - t_shaft) / p.J_m
-        dtheta = w_m - w_p
-        if mode == 0:
-            dw_p = 0.0
-        else:
-            dw_p = (t_shaft - a * w_p * abs(w_p) - p.T_seal_coulomb * mode) / p.J_p
-        return [di, dw_m, dtheta, dw_p]
+    speed = 1
+    atol = np.array([1e-6, 1e-9])
 
-    return f
+    def __init__(self, p: ShaftLineParams):
+        self.p = p
+
+    def shaft_torque(self, y):
+        return self.p.k * y[0] - self.p.b_motor_bearings * y[1]
+
+    def required(self, y) -> float:
+        return self.shaft_torque(y) - self.p.propeller_torque(y[1])
+
+    def rhs(self, mode: int):
+        p = self.p
+
+        def f(t, y):
+            i, w = y
+            di = (p.supply(t) - p.R_armature * i - p.k * w) / p.L_armature
+            dw = 0.0 if mode == 0 else (self.required(y) - p.T_seal_coulomb * mode) / p.J_p
+            return [di, dw]
+
+        return f
+
+    def jac(self, mode: int):
+        p = self.p
+
+        def jac(t, y):
+            j = np.zeros((2, 2))
+            j[0] = [-p.R_armature / p.L_armature, -p.k / p.L_armature]
+            if mode != 0:
+                j[1] = [p.k / p.J_p, (-p.b_motor_bearings - _load_slope(p, y[1])) / p.J_p]
+            return j
+
+        return jac
 
 
-def _jacobian(p: ShaftLineParams, mode: int):
-    k, a, r, l, b, kk, d = p.k, p.a, p.R_armature, p.L_armature, p.b_motor_bearings, p.K_shaft, p.D_shaft
-
-    def jac(t, y):
-        w_p = y[3]
-        j = np.zeros((4, 4))
-        j[0] = [-r / l, -k / l, 0.0, 0.0]
-        j[1] = [k / p.J_m, (-b - d) / p.J_m, -kk / p.J_m, d / p.J_m]
-        j[2] = [0.0, 1.0, 0.0, -1.0]
-        if mode != 0:
-            j[3] = [0.0, d / p.J_p, kk / p.J_p, (-d - 2.0 * a * abs(w_p)) / p.J_p]
-        return j
-
-    return jac
+def _load_slope(p: ShaftLineParams, w: float) -> float:
+    """d(propeller torque)/dw: 2 a |w| (a w |w|) or 2 a w (a w^2)."""
+    return 2.0 * p.a * (w if p.propeller_law == 2 else abs(w))
 
 
-def _mode_after(p: ShaftLineParams, y) -> tuple[int, np.ndarray]:
-    """At w_p = 0 (a slip segment ended, or at the start): stuck if the seal can hold the required
-    torque, else slipping in its direction. Returns the mode and the state (w_p = 0 exactly)."""
+STRUCTURES = {"full": _Full, "book_reduced": _BookReduced}
+
+
+def _mode_after(line, y) -> tuple[int, np.ndarray]:
+    """At zero speed (a slip segment ended, or at the start): stuck if the seal can hold the required
+    torque, else slipping in its direction. Returns the mode and the state (speed = 0 exactly)."""
     y = np.array(y, dtype=float)
-    y[3] = 0.0
-    t_req = _required_seal_torque(p, y)
-    if abs(t_req) <= p.T_seal_static:
+    y[line.speed] = 0.0
+    t_req = line.required(y)
+    if abs(t_req) <= line.p.T_seal_static:
         return 0, y
     return (1 if t_req > 0 else -1), y
 
 
-def simulate(p: ShaftLineParams, t_end: float, rtol: float = 1e-10, max_step: float = 0.05, t_eval=None):
+def simulate(p: ShaftLineParams, t_end: float, rtol: float = 1e-10, max_step: float = 0.05, t_eval=None, structure: str = "full"):
     """Segment-by-segment Radau solution from rest (seal stuck). Returns a dict of arrays
-    (t, i, w_m, theta, w_p, mode, shaft_torque, motor_torque) at the solver's steps, or at the
-    times `t_eval` (from the dense output), and the list of mode changes (t, mode before, after)."""
+    (t, the states by name, mode, shaft_torque, motor_torque, propeller_speed) at the solver's steps,
+    or at the times `t_eval` (from the dense output), and the list of mode changes (t, mode before,
+    after). `structure`: "full" (model_reduction 0) or "book_reduced" (model_reduction 1)."""
     from scipy.integrate import solve_ivp
 
-    y = np.zeros(4)
-    mode, y = _mode_after(p, y)
+    line = STRUCTURES[structure](p)
+    names = ("i", "w_m", "theta", "w_p") if structure == "full" else ("i", "w")
+    y = np.zeros(len(names))
+    mode, y = _mode_after(line, y)
     t = 0.0
     kinks = [p.ramp_time, p.short_circuit_time]
-    out = {name: [] for name in ("t", "i", "w_m", "theta", "w_p", "mode")}
+    out = {name: [] for name in ("t", "mode") + names}
     switches = []
-    atol = np.array([1e-6, 1e-9, 1e-12, 1e-9])
     while t < t_end:
         t_stop = min([k for k in kinks if k > t + 1e-12] + [t_end])
 
         if mode == 0:
             def ev(tt, yy):
-                return p.T_seal_static - abs(_required_seal_torque(p, yy))
-            ev.direction = -1
+                return p.T_seal_static - abs(line.required(yy))
         else:
             def ev(tt, yy, m=mode):
-                return m * yy[3]
-            ev.direction = -1
+                return m * yy[line.speed]
+        ev.direction = -1
         ev.terminal = True
 
         segment_eval = None
         if t_eval is not None:
             segment_eval = t_eval[(t_eval >= t) & (t_eval <= t_stop)]
-        sol = solve_ivp(_rhs(p, mode), (t, t_stop), y, method="Radau", rtol=rtol, atol=atol,
-                        jac=_jacobian(p, mode), events=ev, t_eval=segment_eval, max_step=max_step)
+        sol = solve_ivp(line.rhs(mode), (t, t_stop), y, method="Radau", rtol=rtol, atol=line.atol,
+                        jac=line.jac(mode), events=ev, t_eval=segment_eval, max_step=max_step)
         if sol.status < 0:
             raise RuntimeError(f"Radau failed at t = {t}: {sol.message}")
-        for name, row in zip(("i", "w_m", "theta", "w_p"), sol.y):
+        for name, row in zip(names, sol.y):
             out[name].append(row)
         out["t"].append(sol.t)
         out["mode"].append(np.full(sol.t.shape, mode))
@@ -211,10 +282,9 @@ def simulate(p: ShaftLineParams, t_end: float, rtol: float = 1e-10, max_step: fl
             t = float(sol.t_events[0][0])
             y = np.array(sol.y_events[0][0])
             if mode == 0:
-                t_req = _required_seal_torque(p, y)
-                new_mode = 1 if t_req > 0 else -1
+                new_mode = 1 if line.required(y) > 0 else -1
             else:
-                new_mode, y = _mode_after(p, y)
+                new_mode, y = _mode_after(line, y)
             switches.append((t, mode, new_mode))
             mode = new_mode
         else:
@@ -223,23 +293,25 @@ def simulate(p: ShaftLineParams, t_end: float, rtol: float = 1e-10, max_step: fl
     res = {name: np.concatenate(v) for name, v in out.items()}
     _, first = np.unique(res["t"], return_index=True)  # a time shared by two segments, once
     res = {name: v[first] for name, v in res.items()}
-    res["shaft_torque"] = p.K_shaft * res["theta"] + p.D_shaft * (res["w_m"] - res["w_p"])
+    states = np.vstack([res[n] for n in names])
+    res["shaft_torque"] = line.shaft_torque(states)
     res["motor_torque"] = p.k * res["i"]
+    res["propeller_speed"] = res[names[line.speed]]
     return res, switches
 
 
 def simulate_reduced(p: ShaftLineParams, t_end: float, rtol: float = 1e-10, max_step: float = 0.05, t_eval=None):
-    """The reduced model (spec, "Model reduction": armature R and L, propeller inertia and load; rigid
-    massless shaft and motor rotor, no bearings, no seal): L di/dt = U - R i - k w,
-    J_p dw/dt = k i - a w |w|; the shaft carries the motor torque k i. Smooth: one Radau run per
+    """The activity-reduced model (model_reduction = 2; spec, "Model reduction": armature R and L,
+    propeller inertia and load; rigid massless shaft and motor rotor, no bearings, no seal):
+    L di/dt = U - R i - k w, J_p dw/dt = k i - a w |w|; the shaft carries the motor torque k i. Smooth: one Radau run per
     supply segment. Returns (t, shaft torque)."""
     from scipy.integrate import solve_ivp
 
-    k, a, r, l = p.k, p.a, p.R_armature, p.L_armature
+    k, r, l = p.k, p.R_armature, p.L_armature
 
     def f(t, y):
         i, w = y
-        return [(p.supply(t) - r * i - k * w) / l, (k * i - a * w * abs(w)) / p.J_p]
+        return [(p.supply(t) - r * i - k * w) / l, (k * i - p.propeller_torque(w)) / p.J_p]
 
     y = np.zeros(2)
     ts, torques = [], []

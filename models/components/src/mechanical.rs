@@ -237,8 +237,32 @@ pub struct FanLoad {
 }
 
 impl FanLoad {
+    /// The load that absorbs `nominal_torque_n_m` at `nominal_speed_rad_per_s`: k = T_n / w_n^2.
+    /// ```
+    /// use components::FanLoad;
+    /// let load = FanLoad::from_nominal(1.75e5, 12.56);
+    /// assert!((load.torque_n_m(12.56) - 1.75e5).abs() < 1e-9);
+    /// ```
+    pub fn from_nominal(nominal_torque_n_m: f64, nominal_speed_rad_per_s: f64) -> Self {
+        FanLoad { coefficient_n_m_s2_per_rad2: nominal_torque_n_m / (nominal_speed_rad_per_s * nominal_speed_rad_per_s) }
+    }
+
+    /// T = k w |w|: against the rotation in both directions.
     pub fn torque_n_m(&self, speed_rad_per_s: f64) -> f64 {
         self.coefficient_n_m_s2_per_rad2 * speed_rad_per_s * speed_rad_per_s.abs()
+    }
+
+    /// T = k w^2: the same direction whatever the rotation's, a braking torque turning forwards
+    /// and a driving one turning backwards. Not physical for blades in a fluid (they brake both
+    /// ways), but the way some models write the law; it differs from `torque_n_m` only for w < 0.
+    /// ```
+    /// use components::FanLoad;
+    /// let load = FanLoad { coefficient_n_m_s2_per_rad2: 2.0 };
+    /// assert_eq!(load.unidirectional_torque_n_m(3.0), load.torque_n_m(3.0));
+    /// assert_eq!(load.unidirectional_torque_n_m(-3.0), 18.0);
+    /// ```
+    pub fn unidirectional_torque_n_m(&self, speed_rad_per_s: f64) -> f64 {
+        self.coefficient_n_m_s2_per_rad2 * speed_rad_per_s * speed_rad_per_s
     }
 }
 
@@ -260,6 +284,9 @@ pub struct CoulombFriction {
 }
 
 impl CoulombFriction {
+    /// Below this speed a body in the stuck mode stands still (1e-9 rad/s: a turn in 200 years).
+    pub const STANDSTILL_RAD_PER_S: f64 = 1e-9;
+
     /// The friction torque on a body slipping in `direction` (+-1; 0 when stuck), N m.
     pub fn slip_torque_n_m(&self, direction: i32) -> f64 {
         -self.coulomb_n_m * direction as f64
@@ -283,11 +310,15 @@ impl CoulombFriction {
     /// values) slips in its direction of motion. A mode holds exactly while its `indicator` is
     /// positive (the FMI convention for an indicator's two domains), so the update always agrees
     /// with the crossing that triggered it, even where the located point has the indicator at 0.
+    ///
+    /// A stuck body counts as moving only above [`CoulombFriction::STANDSTILL_RAD_PER_S`]: its speed
+    /// has a zero derivative, but a Model Exchange master's integrator may leave round-off on it
+    /// (fmpy's CVode: -1.9e-22 rad/s at ShaftLine's breakaway), which must not pick the direction.
     pub fn next_mode(&self, mode: i32, speed_rad_per_s: f64, required_n_m: f64) -> (i32, bool) {
         let pushed = if required_n_m > 0.0 { 1 } else { -1 };
         let holds = self.indicator(0, 0.0, required_n_m) > 0.0;
         match mode {
-            0 if speed_rad_per_s != 0.0 => (if speed_rad_per_s > 0.0 { 1 } else { -1 }, false),
+            0 if speed_rad_per_s.abs() > Self::STANDSTILL_RAD_PER_S => (if speed_rad_per_s > 0.0 { 1 } else { -1 }, false),
             0 if !holds => (pushed, false),
             0 => (0, false),
             d if self.indicator(d, speed_rad_per_s, required_n_m) <= 0.0 => {
@@ -310,6 +341,20 @@ impl CoulombFriction {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_stuck_body_breaks_loose_the_way_it_is_pushed_whatever_round_off_its_speed_carries() {
+        let seal = CoulombFriction { coulomb_n_m: 9000.0, static_n_m: 9000.0 };
+        // Breakaway: pushed forwards, with an ME integrator's round-off on the speed either way.
+        for speed in [0.0, -1.9e-22, 1.9e-22, -1e-10] {
+            assert_eq!(seal.next_mode(0, speed, 9000.5), (1, false), "{speed}");
+            assert_eq!(seal.next_mode(0, speed, -9000.5), (-1, false), "{speed}");
+            assert_eq!(seal.next_mode(0, speed, 100.0), (0, false), "{speed}");
+        }
+        // A body that really moves (start values) slips the way it moves.
+        assert_eq!(seal.next_mode(0, -0.5, 100.0), (-1, false));
+        assert_eq!(seal.next_mode(0, 0.5, -9500.0), (1, false));
+    }
 
     #[test]
     fn torsion_bar_twists_in_proportion_up_to_its_stops() {
