@@ -23,7 +23,7 @@ import figures_common as fc
 OUTPUTS = ["torque_applied", "u_demodulated", "torque_measured"]
 SETTLE = 0.03  # s at -full scale before the ramp (the filter settles)
 # This project's first set (docs/torque-sensor-spec.md, "The first set"): a torque-driven bar.
-FIRST_SET = {"sensor_data": 2, "bridge_topology": 2, "twist_drive": 2, "K_torsion_bar": 360.0 / math.pi,
+FIRST_SET = {"sensor_data": 2, "bridge_topology": 2, "twist_drive": 2, "K_torsion_bar": 360.0 / math.pi, "twist_stop": math.radians(5.0),
              "filter_w": 2 * math.pi * 200.0, "filter_damping": math.sqrt(0.5), "U_multiplier_reference": 5.0}
 CASES = {"book (Chap3_TorqueSensor.mo)": {}, "book circuits, differential": {"arrangement": 2}, "first set": FIRST_SET}
 

@@ -84,7 +84,7 @@ BOOK_STRUCTURE = {
 BOOK_EXPERIMENT = {"stop_time": (0.1, "experiment: StopTime = 0.1"), "step_size": (2e-6, "experiment: Interval = 2e-06")}
 
 # This project's first set (before the book file was read), reachable through parameters (docs/torque-sensor-spec.md).
-FIRST_SET = {"sensor_data": 2, "bridge_topology": 2, "twist_drive": 2, "K_torsion_bar": 360.0 / math.pi,
+FIRST_SET = {"sensor_data": 2, "bridge_topology": 2, "twist_drive": 2, "K_torsion_bar": 360.0 / math.pi, "twist_stop": math.radians(5.0),
              "filter_w": 2 * math.pi * 200.0, "filter_damping": math.sqrt(0.5), "U_multiplier_reference": 5.0}
 
 REPORT: list[str] = []

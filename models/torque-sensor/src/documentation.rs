@@ -93,7 +93,8 @@ the default keeps the book's number.</li>
 <li>DefaultExperiment: 0.1 s, 2 &mu;s (book, experiment: StopTime, Interval). The book's tolerance 1e-6 is looser than this
 FMU's floor (1e-9, for the first set's bridge): a master's 1e-6 is raised to it, and the FMU says so.</li>
 <li>Not in the book (chosen): torque_full_scale = 8 N m (an EPS range; the measuring range of the figures), twist_stop =
-5 deg (the conditioning's inversion range and, under a torque, the stops; below the teeth's 9 deg).</li>
+0.1 rad = 5.7 deg (the conditioning's inversion range and, under a torque, the stops: 10 N m, 1.25 x full scale; below the
+teeth's 9 deg).</li>
 </ul>
 <p><b>Values easy to get wrong when setting a case by hand.</b> Question 5 (a voltage step straight on a winding) needs
 bridge_topology = 2 with <b>R_bridge = 0</b> and supply_mode = 2: the book's topology has no resistor above a winding.
@@ -101,7 +102,7 @@ filter_w is in rad/s with the book's 3.14. The book's demodulated output is in V
 1 V), so it is 5 times the first set's for the same bridge voltage. The book's relative angle is output minus input:
 &theta; = -twist. The angle step is smoothed (position_f_crit = 50 Hz), so the twist follows the step in about 12 ms.</p>
 <p><b>The first set</b> (this project's parameters before the book file was read) stays reachable: sensor_data = 2,
-bridge_topology = 2, twist_drive = 2, K_torsion_bar = 114.59 (2 N m/deg), filter_w = 1256.6 (200 Hz),
+bridge_topology = 2, twist_drive = 2, K_torsion_bar = 114.59 (2 N m/deg), twist_stop = 0.087266 (5 deg), filter_w = 1256.6 (200 Hz),
 filter_damping = 0.7071, U_multiplier_reference = 5; the other first-set values are the defaults of the parameters
 only it uses (R_bridge 2.2 k&Omega;, mu_r_iron_path 2000, iron_path_length 30 mm, 8 teeth of 22.5 deg half overlapping,
 12 mm radius, 5 mm long, 0.3 mm gap; the torque step of 4 N m at 10 ms). It teaches what the book's does not: a bridge
