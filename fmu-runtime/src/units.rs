@@ -71,6 +71,7 @@ const KNOWN: &[(&str, BaseUnit)] = &[
     ("V.s/rad", BaseUnit::new(1, 2, -2, -1, 0, -1)),
     ("J.s", BaseUnit::new(1, 2, -1, 0, 0, 0)),
     ("H-1", BaseUnit::new(-1, -2, 2, 2, 0, 0)),
+    ("V/(N.m)", BaseUnit::new(0, 0, -1, -1, 0, 0)),
 ];
 
 /// The base-unit exponents of a unit name: a known unit, or a known unit followed by "/s"

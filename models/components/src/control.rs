@@ -59,6 +59,37 @@ pub struct SecondOrderFilter {
 }
 
 impl SecondOrderFilter {
+    /// The filter 1 / (1 + a1 s + a2 s^2) (unit static gain): wn = 1 / sqrt(a2),
+    /// zeta = a1 / (2 sqrt(a2)).
+    /// ```
+    /// use components::SecondOrderFilter;
+    /// let f = SecondOrderFilter::from_coefficients(2.0 * 0.7 / 100.0, 1.0 / 100.0f64.powi(2));
+    /// assert!((f.natural_frequency_hz - 100.0 / (2.0 * std::f64::consts::PI)).abs() < 1e-9);
+    /// assert!((f.damping - 0.7).abs() < 1e-12);
+    /// ```
+    pub fn from_coefficients(a1_s: f64, a2_s2: f64) -> Self {
+        let root = a2_s2.sqrt();
+        SecondOrderFilter { natural_frequency_hz: 1.0 / (2.0 * PI * root), damping: a1_s / (2.0 * root) }
+    }
+
+    /// The second-order Bessel-type filter that smooths a position (or speed) reference at a
+    /// critical frequency f_c: 1 / (1 + (1.3617 / w_c) s + (0.6180 / w_c^2) s^2), w_c = 2 pi f_c,
+    /// the smoothing of Modelica's rotational Position source when it is not `exact` (its
+    /// default, f_crit = 50 Hz; the book's torque-sensor model drives its torsion bar through
+    /// one: book file Chap3_TorqueSensor.mo, component position). wn = 1.272 w_c, zeta = 0.866.
+    /// ```
+    /// use components::SecondOrderFilter;
+    /// let f = SecondOrderFilter::bessel(50.0);
+    /// assert!((f.natural_frequency_hz - 50.0 / 0.6180f64.sqrt()).abs() < 1e-9);
+    /// assert!((f.damping - 1.3617 / (2.0 * 0.6180f64.sqrt())).abs() < 1e-12);
+    /// ```
+    pub fn bessel(critical_frequency_hz: f64) -> Self {
+        const A1: f64 = 1.3617; // s coefficient times w_c
+        const A2: f64 = 0.6180; // s^2 coefficient times w_c^2
+        let wc = 2.0 * PI * critical_frequency_hz;
+        SecondOrderFilter::from_coefficients(A1 / wc, A2 / (wc * wc))
+    }
+
     /// y'' for input `u`, output `y` and its rate `y_rate`.
     pub fn acceleration(&self, u: f64, y: f64, y_rate: f64) -> f64 {
         let wn = 2.0 * PI * self.natural_frequency_hz;

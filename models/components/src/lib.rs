@@ -43,7 +43,7 @@ pub use control::{Multiplier, PiController, SecondOrderFilter, SpeedRamp};
 pub use dc::{Chopper, DcMachine};
 pub use electrical::{Capacitor, Inductor, Resistor};
 pub use induction::{Fluxes, InductionMachine};
-pub use magnetic::{Reluctance, RlWinding, ToothedAirGap, Winding, MU_0_H_PER_M};
+pub use magnetic::{Reluctance, RlWinding, ToothFaces, ToothedAirGap, Winding, MU_0_H_PER_M};
 pub use mechanical::{CableDrum, CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring};
 pub use sources::{Ramp, SineVoltage};
 pub use thermal::{ThermalConductance, ThermalNode};

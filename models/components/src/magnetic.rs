@@ -42,8 +42,40 @@ impl Reluctance {
     /// yoke, Figure 3.25). The flux through a cylinder of radius r is B 2 pi r width, so
     /// H = flux / (mu0 2 pi r width) and mmf = integral of H dr = flux ln(r2/r1) / (2 pi mu0 width).
     pub fn radial_air_gap(inner_radius_m: f64, outer_radius_m: f64, width_m: f64) -> Self {
+        Reluctance::radial(inner_radius_m, outer_radius_m, width_m, 1.0)
+    }
+
+    /// A hollow cylinder crossed axially (flux along the axis) between the radii `inner_radius_m`
+    /// and `outer_radius_m` over `length_m`: a uniform tube of section pi (r_o^2 - r_i^2). The
+    /// book's torque-sensor model builds its yoke's outer shell and the detection rings of such
+    /// tubes (book file Chap3_TorqueSensor.mo, AxialIron1 and AxialIron2).
+    /// ```
+    /// use components::Reluctance;
+    /// // The ring of part A: 10 mm long, 12 to 15 mm, mu_r 1000
+    /// let ring = Reluctance::axial_annulus(0.010, 0.012, 0.015, 1000.0);
+    /// let area = std::f64::consts::PI * (0.015f64.powi(2) - 0.012f64.powi(2));
+    /// assert!((ring.reluctance_per_h - Reluctance::uniform(0.010, area, 1000.0).reluctance_per_h).abs() < 1e-6);
+    /// ```
+    pub fn axial_annulus(length_m: f64, inner_radius_m: f64, outer_radius_m: f64, relative_permeability: f64) -> Self {
+        let area = PI * (outer_radius_m * outer_radius_m - inner_radius_m * inner_radius_m);
+        Reluctance::uniform(length_m, area, relative_permeability)
+    }
+
+    /// A hollow cylinder crossed radially between `inner_radius_m` and `outer_radius_m` over an
+    /// axial width `width_m`, of relative permeability `relative_permeability`:
+    /// R = ln(r_o/r_i) / (2 pi mu0 mu_r width) (the air gaps of question 4 at mu_r = 1, the
+    /// yoke's poles of the book's model at mu_r 1000: RadialIron1 and RadialIron2).
+    /// ```
+    /// use components::Reluctance;
+    /// let air = Reluctance::radial(0.015, 0.0165, 0.002, 1.0);
+    /// assert_eq!(air, Reluctance::radial_air_gap(0.015, 0.0165, 0.002));
+    /// let iron = Reluctance::radial(0.015, 0.0165, 0.002, 1000.0);
+    /// assert!((air.reluctance_per_h / iron.reluctance_per_h - 1000.0).abs() < 1e-9);
+    /// ```
+    pub fn radial(inner_radius_m: f64, outer_radius_m: f64, width_m: f64, relative_permeability: f64) -> Self {
         Reluctance {
-            reluctance_per_h: (outer_radius_m / inner_radius_m).ln() / (2.0 * PI * MU_0_H_PER_M * width_m),
+            reluctance_per_h: (outer_radius_m / inner_radius_m).ln()
+                / (2.0 * PI * MU_0_H_PER_M * relative_permeability * width_m),
         }
     }
 
@@ -146,17 +178,42 @@ impl RlWinding {
     }
 }
 
+/// Where the teeth of a [`ToothedAirGap`] face each other: this gives the facing section per
+/// radian of overlap of a tooth pair.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ToothFaces {
+    /// Teeth on two coaxial cylinders across a radial gap at `radius_m`, over an axial length
+    /// `axial_length_m`: radius x axial length per radian.
+    Radial { radius_m: f64, axial_length_m: f64 },
+    /// Teeth on two facing annuli (radii `inner_radius_m` to `outer_radius_m`) across an axial
+    /// gap: (r_o^2 - r_i^2) / 2 per radian. The book's variable gap (book file
+    /// Chap3_TorqueSensor.mo, component AxialTorqueSensor) is of this kind.
+    Axial { inner_radius_m: f64, outer_radius_m: f64 },
+}
+
+impl ToothFaces {
+    /// Facing section of one tooth pair per radian of overlap, m2/rad.
+    pub fn area_per_rad_m2(&self) -> f64 {
+        match *self {
+            ToothFaces::Radial { radius_m, axial_length_m } => radius_m * axial_length_m,
+            ToothFaces::Axial { inner_radius_m, outer_radius_m } => {
+                0.5 * (outer_radius_m * outer_radius_m - inner_radius_m * inner_radius_m)
+            }
+        }
+    }
+}
+
 /// The air gap whose reluctance depends on the twist angle (question 7's new component, for
 /// ring B): `teeth` teeth of angular width `tooth_width_rad` on the ring fixed to one end of the
-/// torsion bar face as many teeth on the ring fixed to the other across a radial gap `gap_length_m` at radius
-/// `radius_m`, over an axial length `axial_length_m`. The twist slides the teeth past each other:
+/// torsion bar face as many teeth on the ring fixed to the other across a gap of length
+/// `gap_length_m` (radial or axial: [`ToothFaces`]). The twist slides the teeth past each other:
 /// the overlap of each tooth pair is rest_overlap + twist (between 0 and the tooth width), the
-/// gap's section teeth x overlap x radius x axial length, and R = gap / (mu0 section). Fringing
-/// (the quarter-circle field lines of Figure 3.25) is neglected, as the chapter does.
+/// gap's section teeth x overlap x the faces' section per radian, and R = gap / (mu0 section).
+/// Fringing (the quarter-circle field lines of Figure 3.25) is neglected, as the chapter does.
 /// ```
-/// use components::ToothedAirGap;
-/// let gap = ToothedAirGap { teeth: 8.0, radius_m: 0.012, axial_length_m: 0.005, gap_length_m: 3e-4,
-///     tooth_width_rad: 22.5f64.to_radians(), rest_overlap_rad: 11.25f64.to_radians() };
+/// use components::{ToothFaces, ToothedAirGap};
+/// let gap = ToothedAirGap { teeth: 8.0, faces: ToothFaces::Radial { radius_m: 0.012, axial_length_m: 0.005 },
+///     gap_length_m: 3e-4, tooth_width_rad: 22.5f64.to_radians(), rest_overlap_rad: 11.25f64.to_radians() };
 /// // Twisting one way widens the overlap and lowers the reluctance.
 /// assert!(gap.reluctance(0.01).reluctance_per_h < gap.reluctance(0.0).reluctance_per_h);
 /// assert!((gap.overlap_rad(0.0) - 11.25f64.to_radians()).abs() < 1e-15);
@@ -164,14 +221,30 @@ impl RlWinding {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ToothedAirGap {
     pub teeth: f64,
-    pub radius_m: f64,
-    pub axial_length_m: f64,
+    pub faces: ToothFaces,
     pub gap_length_m: f64,
     pub tooth_width_rad: f64,
     pub rest_overlap_rad: f64,
 }
 
 impl ToothedAirGap {
+    /// Teeth half the pitch wide (2 pi / teeth), half overlapping at zero twist: the facing
+    /// fraction of the faces is 1/4 + teeth twist / (2 pi), the book's formula (book file
+    /// Chap3_TorqueSensor.mo, HollowCylinderAxialFluxVariable: A = pi (r_o^2 - r_i^2)
+    /// (1/4 + N Teta / (2 pi)), N = 10 poles), valid while |twist| < pi / (2 teeth).
+    /// ```
+    /// use components::{ToothFaces, ToothedAirGap};
+    /// use std::f64::consts::PI;
+    /// let faces = ToothFaces::Axial { inner_radius_m: 0.012, outer_radius_m: 0.015 };
+    /// let gap = ToothedAirGap::half_pitch(10.0, faces, 0.4e-3);
+    /// let twist = -0.01;
+    /// let book = PI * (0.015f64.powi(2) - 0.012f64.powi(2)) * (0.25 + 10.0 * twist / (2.0 * PI));
+    /// assert!((gap.area_m2(twist) / book - 1.0).abs() < 1e-12);
+    /// ```
+    pub fn half_pitch(teeth: f64, faces: ToothFaces, gap_length_m: f64) -> Self {
+        ToothedAirGap { teeth, faces, gap_length_m, tooth_width_rad: PI / teeth, rest_overlap_rad: PI / (2.0 * teeth) }
+    }
+
     /// Angular overlap of each tooth pair at a twist, rad, within [0, tooth width].
     pub fn overlap_rad(&self, twist_rad: f64) -> f64 {
         (self.rest_overlap_rad + twist_rad).clamp(0.0, self.tooth_width_rad)
@@ -179,12 +252,31 @@ impl ToothedAirGap {
 
     /// Facing section of the gap, m2.
     pub fn area_m2(&self, twist_rad: f64) -> f64 {
-        self.teeth * self.overlap_rad(twist_rad) * self.radius_m * self.axial_length_m
+        self.teeth * self.overlap_rad(twist_rad) * self.faces.area_per_rad_m2()
     }
 
     /// Reluctance at a twist (infinite when the teeth no longer face each other), 1/H.
     pub fn reluctance(&self, twist_rad: f64) -> Reluctance {
         Reluctance::uniform(self.gap_length_m, self.area_m2(twist_rad), 1.0)
+    }
+
+    /// d(reluctance)/d(twist), 1/(H rad): -gap / (mu0 section^2) x d(section)/d(twist) while the
+    /// teeth overlap partly, 0 where the overlap is clamped (the voltage a moving ring induces,
+    /// the motional term, needs it).
+    /// ```
+    /// use components::{ToothFaces, ToothedAirGap};
+    /// let gap = ToothedAirGap::half_pitch(10.0, ToothFaces::Axial { inner_radius_m: 0.012, outer_radius_m: 0.015 }, 0.4e-3);
+    /// let h = 1e-7;
+    /// let numeric = (gap.reluctance(h).reluctance_per_h - gap.reluctance(-h).reluctance_per_h) / (2.0 * h);
+    /// assert!((gap.reluctance_rate_per_h_per_rad(0.0) / numeric - 1.0).abs() < 1e-6);
+    /// ```
+    pub fn reluctance_rate_per_h_per_rad(&self, twist_rad: f64) -> f64 {
+        let overlap = self.rest_overlap_rad + twist_rad;
+        if overlap <= 0.0 || overlap >= self.tooth_width_rad {
+            return 0.0;
+        }
+        let area = self.area_m2(twist_rad);
+        -self.gap_length_m / (MU_0_H_PER_M * area * area) * self.teeth * self.faces.area_per_rad_m2()
     }
 
     /// The twists at which a tooth pair stops overlapping or overlaps fully: beyond them the
@@ -261,8 +353,7 @@ mod tests {
     fn toothed_gap_permeance_grows_linearly_with_overlap() {
         let g = ToothedAirGap {
             teeth: 8.0,
-            radius_m: 0.012,
-            axial_length_m: 0.005,
+            faces: ToothFaces::Radial { radius_m: 0.012, axial_length_m: 0.005 },
             gap_length_m: 3e-4,
             tooth_width_rad: PI / 8.0,
             rest_overlap_rad: PI / 16.0,

@@ -53,6 +53,20 @@ impl Ramp {
         }
     }
 
+    /// d(value)/dt: height / duration inside the ramp, 0 outside (and for a step).
+    /// ```
+    /// use components::Ramp;
+    /// let r = Ramp { start_s: 1.0, duration_s: 2.0, height: 4.0 };
+    /// assert_eq!((r.slope(0.5), r.slope(2.0), r.slope(3.5)), (0.0, 2.0, 0.0));
+    /// ```
+    pub fn slope(&self, time_s: f64) -> f64 {
+        if self.duration_s > 0.0 && time_s >= self.start_s && time_s < self.start_s + self.duration_s {
+            self.height / self.duration_s
+        } else {
+            0.0
+        }
+    }
+
     /// The kinks (or the step) after `after`, for the solver to stop at.
     pub fn next_kink(&self, after: f64) -> Option<f64> {
         [self.start_s, self.start_s + self.duration_s].into_iter().find(|t| *t > after)

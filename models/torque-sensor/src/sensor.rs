@@ -4,6 +4,19 @@
 use components::complex::Complex;
 use components::{Multiplier, Reluctance, RlWinding, SecondOrderFilter, SineVoltage, ToothedAirGap, TorsionBar, Winding};
 
+/// How the two windings and the bridge resistors are connected across the supply (question 8).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Topology {
+    /// The book's (book file Chap3_TorqueSensor.mo, InductiveSensor1/2): windings A and B in
+    /// series in one arm (A from the supply to the midpoint, B from the midpoint to ground),
+    /// resistors R1 over R2 in the other; the bridge voltage is the resistors' midpoint minus
+    /// the windings' midpoint.
+    WindingsInOneArm,
+    /// This project's first set: a resistor R_bridge above each winding, each arm across the
+    /// supply; the bridge voltage is u_A - u_B = R_bridge (i_B - i_A).
+    ResistorAboveEachWinding,
+}
+
 /// Every element of Figure 3.27 at the current parameter values.
 #[derive(Clone, Copy, Debug)]
 pub struct Sensor {
@@ -11,48 +24,72 @@ pub struct Sensor {
     pub torsion_bar: TorsionBar,
     /// Windings A and B are identical (N turns, R_winding).
     pub winding: Winding,
-    /// One radial air gap between a detection ring and its yoke (Figure 3.26, a and c).
-    pub ring_gap: Reluctance,
-    /// The soft-iron path of yoke and ring (Figure 3.26, b and d).
-    pub iron: Reluctance,
-    /// Ring B's twist-dependent air gap (question 7).
+    /// Part A's magnetic circuit without the toothed gap (Figure 3.26: the yoke, two air gaps,
+    /// the ring).
+    pub fixed_a: Reluctance,
+    /// Part B's magnetic circuit without the toothed gap.
+    pub fixed_b: Reluctance,
+    /// One of part A's two air gaps (question 4 takes the iron as infinitely permeable).
+    pub question4_gap: Reluctance,
+    /// The twist-dependent air gap (question 7).
     pub teeth: ToothedAirGap,
-    /// Whether part A's circuit crosses a toothed gap too, whose overlap shrinks as ring B's
-    /// grows (a differential sensor); false: part A is Figure 3.26 as is, the reference arm.
+    /// The toothed gap sees teeth_sign x twist: -1 in the book's model (its relative-angle sensor
+    /// measures the output flange against the input one, so the overlap shrinks as the input
+    /// shaft turns forward), +1 in the first set.
+    pub teeth_sign: f64,
+    /// Whether part A's circuit crosses a toothed gap too, at the opposite twist (a differential
+    /// sensor); false: part A is the reference arm.
     pub differential: bool,
-    /// The two resistors of the bridge (one above each winding), Ohm.
-    pub bridge_resistance_ohm: f64,
+    pub topology: Topology,
+    /// R1, from the supply to the resistors' midpoint (WindingsInOneArm), Ohm.
+    pub r_upper_ohm: f64,
+    /// R2, from the resistors' midpoint to ground (WindingsInOneArm), Ohm.
+    pub r_lower_ohm: f64,
+    /// R_bridge, above each winding (ResistorAboveEachWinding), Ohm.
+    pub r_arm_ohm: f64,
     /// The 5 kHz bridge supply (question 8).
     pub supply: SineVoltage,
     pub multiplier: Multiplier,
     pub filter: SecondOrderFilter,
+    /// Static gain of the low-pass filter.
+    pub filter_gain: f64,
 }
 
 impl Sensor {
-    /// Figure 3.26's circuit: two ring gaps and the iron, in series.
-    pub fn fixed_circuit(&self) -> Reluctance {
-        self.ring_gap.series(self.ring_gap).series(self.iron)
-    }
-
-    /// Magnetic circuit of part A: Figure 3.26's (differential: plus the toothed gap at the
-    /// opposite twist).
+    /// Magnetic circuit of part A at a twist (differential: plus the toothed gap at the opposite
+    /// twist).
     pub fn circuit_a(&self, twist_rad: f64) -> Reluctance {
         if self.differential {
-            self.fixed_circuit().series(self.teeth.reluctance(-twist_rad))
+            self.fixed_a.series(self.teeth.reluctance(-self.teeth_sign * twist_rad))
         } else {
-            self.fixed_circuit()
+            self.fixed_a
         }
     }
 
-    /// Magnetic circuit of part B (question 7): Figure 3.26's plus the toothed gap.
+    /// Magnetic circuit of part B (question 7): its fixed part plus the toothed gap.
     pub fn circuit_b(&self, twist_rad: f64) -> Reluctance {
-        self.fixed_circuit().series(self.teeth.reluctance(twist_rad))
+        self.fixed_b.series(self.teeth.reluctance(self.teeth_sign * twist_rad))
     }
 
-    /// Question 4: the inductance with soft iron of infinite permeability, N^2 / (2 R_gap)
+    /// (L_A, L_B) at a twist, H.
+    pub fn inductances_h(&self, twist_rad: f64) -> (f64, f64) {
+        (self.winding.inductance_h(self.circuit_a(twist_rad)), self.winding.inductance_h(self.circuit_b(twist_rad)))
+    }
+
+    /// (dL_A/dtwist, dL_B/dtwist), H/rad: L = N^2 / R, so dL/dtwist = -L^2 / N^2 dR/dtwist.
+    pub fn inductance_rates_h_per_rad(&self, twist_rad: f64) -> (f64, f64) {
+        let (l_a, l_b) = self.inductances_h(twist_rad);
+        let n2 = self.winding.turns * self.winding.turns;
+        let s = self.teeth_sign;
+        let dr_b = s * self.teeth.reluctance_rate_per_h_per_rad(s * twist_rad);
+        let dr_a = if self.differential { -s * self.teeth.reluctance_rate_per_h_per_rad(-s * twist_rad) } else { 0.0 };
+        (-l_a * l_a / n2 * dr_a, -l_b * l_b / n2 * dr_b)
+    }
+
+    /// Question 4: the inductance of part A with soft iron of infinite permeability, N^2 / (2 R_gap)
     /// = pi mu0 b N^2 / ln(r2/r1).
     pub fn question4_inductance_h(&self) -> f64 {
-        self.winding.inductance_h(self.ring_gap.series(self.ring_gap))
+        self.winding.inductance_h(self.question4_gap.series(self.question4_gap))
     }
 
     /// Question 5's R-L model of winding A: the inductance of question 4 and R_winding.
@@ -60,23 +97,33 @@ impl Sensor {
         RlWinding { inductance_h: self.question4_inductance_h(), resistance_ohm: self.winding.resistance_ohm }
     }
 
-    /// Current phasor of a bridge arm (bridge resistor over a winding of inductance L) under the
-    /// supply phasor U (the supply is U sin(wt) = Im(U e^{jwt})), A.
-    fn arm_current(&self, inductance_h: f64) -> Complex {
+    /// The bridge voltage's phasor at a constant twist (the supply U sin(wt) = Im(U e^{jwt}) is the
+    /// phase reference), V.
+    pub fn bridge_phasor_v(&self, twist_rad: f64) -> Complex {
         let w = self.supply.angular_frequency_rad_per_s();
-        let z = Complex::new(self.bridge_resistance_ohm + self.winding.resistance_ohm, w * inductance_h);
-        Complex::new(self.supply.amplitude_v, 0.0) / z
+        let (l_a, l_b) = self.inductances_h(twist_rad);
+        let r = self.winding.resistance_ohm;
+        let (z_a, z_b) = (Complex::new(r, w * l_a), Complex::new(r, w * l_b));
+        let u = Complex::new(self.supply.amplitude_v, 0.0);
+        match self.topology {
+            Topology::WindingsInOneArm => {
+                // resistors' midpoint U R2 / (R1 + R2) minus the windings' midpoint U Z_B / (Z_A + Z_B)
+                let divider = self.r_lower_ohm / (self.r_upper_ohm + self.r_lower_ohm);
+                u * Complex::new(divider, 0.0) - u * z_b / (z_a + z_b)
+            }
+            Topology::ResistorAboveEachWinding => {
+                let rb = Complex::new(self.r_arm_ohm, 0.0);
+                (u / (rb + z_b) - u / (rb + z_a)) * rb
+            }
+        }
     }
 
-    /// The steady-state demodulated voltage at a constant twist, V: the bridge voltage
-    /// u_bridge = R_bridge (i_B - i_A) has the phasor B = R_bridge (I_B - I_A); the multiplier's
-    /// product B sin(wt + arg B) sin(wt) has the mean Re(B) / 2, which the filter (unit DC gain)
-    /// passes. Exact once the electrical and filter transients have died out.
+    /// The steady-state demodulated voltage at a constant twist, V: the multiplier's product
+    /// |B| sin(wt + arg B) U sin(wt) / U_ref has the mean U Re(B) / (2 U_ref), which the filter
+    /// passes with its static gain. Exact once the electrical and filter transients have died out.
     pub fn steady_demodulated_v(&self, twist_rad: f64) -> f64 {
-        let l_a = self.winding.inductance_h(self.circuit_a(twist_rad));
-        let l_b = self.winding.inductance_h(self.circuit_b(twist_rad));
-        let bridge = (self.arm_current(l_b) - self.arm_current(l_a)) * Complex::new(self.bridge_resistance_ohm, 0.0);
-        0.5 * bridge.re
+        let b = self.bridge_phasor_v(twist_rad);
+        self.filter_gain * self.supply.amplitude_v * b.re / (2.0 * self.multiplier.reference_amplitude)
     }
 
     /// The offset of question 9's conditioning: the steady output at zero torque, V.
@@ -113,70 +160,102 @@ impl Sensor {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use components::ToothFaces;
     use std::f64::consts::PI;
 
-    fn sensor() -> Sensor {
+    /// The first set (ring geometry, a resistor above each winding).
+    fn first_set() -> Sensor {
+        let gap = Reluctance::radial_air_gap(0.015, 0.0165, 0.002);
+        let fixed = gap.series(gap).series(Reluctance::uniform(0.03, 2.0 * PI * 0.015 * 0.002, 2000.0));
         Sensor {
             torsion_bar: TorsionBar { stiffness_n_m_per_rad: 360.0 / PI, stop_angle_rad: 5f64.to_radians() },
             winding: Winding { turns: 1000.0, resistance_ohm: 30.0 },
-            ring_gap: Reluctance::radial_air_gap(0.015, 0.0165, 0.002),
-            iron: Reluctance::uniform(0.03, 2.0 * PI * 0.015 * 0.002, 2000.0),
+            fixed_a: fixed,
+            fixed_b: fixed,
+            question4_gap: gap,
             teeth: ToothedAirGap {
                 teeth: 8.0,
-                radius_m: 0.012,
-                axial_length_m: 0.005,
+                faces: ToothFaces::Radial { radius_m: 0.012, axial_length_m: 0.005 },
                 gap_length_m: 3e-4,
                 tooth_width_rad: PI / 8.0,
                 rest_overlap_rad: PI / 16.0,
             },
+            teeth_sign: 1.0,
             differential: false,
-            bridge_resistance_ohm: 2200.0,
+            topology: Topology::ResistorAboveEachWinding,
+            r_upper_ohm: 10e3,
+            r_lower_ohm: 10e3,
+            r_arm_ohm: 2200.0,
             supply: SineVoltage { amplitude_v: 5.0, frequency_hz: 5000.0 },
             multiplier: Multiplier { reference_amplitude: 5.0 },
             filter: SecondOrderFilter { natural_frequency_hz: 200.0, damping: 0.5f64.sqrt() },
+            filter_gain: 1.0,
         }
     }
 
     #[test]
     fn calibration_inverts_the_characteristic() {
-        let s = sensor();
-        let offset = s.zero_torque_demodulated_v();
-        for torque in [-8.0, -3.0, -0.5, 0.0, 0.5, 3.0, 8.0] {
-            let u = s.steady_demodulated_v(s.torsion_bar.twist_rad(torque)) - offset;
-            let measured = s.measured_torque_n_m(u);
-            assert!((measured - torque).abs() < 1e-9, "{torque} -> {measured}");
+        for s in [first_set(), Sensor { topology: Topology::WindingsInOneArm, ..first_set() }] {
+            let offset = s.zero_torque_demodulated_v();
+            for torque in [-8.0, -3.0, -0.5, 0.0, 0.5, 3.0, 8.0] {
+                let u = s.steady_demodulated_v(s.torsion_bar.twist_rad(torque)) - offset;
+                let measured = s.measured_torque_n_m(u);
+                assert!((measured - torque).abs() < 1e-9, "{torque} -> {measured}");
+            }
+            // out of range: saturates at a stop torque
+            assert!((s.measured_torque_n_m(1e3).abs() - s.torsion_bar.stop_torque_n_m()).abs() < 1e-9);
         }
-        let differential = Sensor { differential: true, ..s };
+        let differential = Sensor { differential: true, ..first_set() };
         for torque in [-8.0, -0.5, 3.0] {
             let u = differential.steady_demodulated_v(differential.torsion_bar.twist_rad(torque));
             assert!((differential.measured_torque_n_m(u) - torque).abs() < 1e-9);
         }
-        // out of range: saturates at a stop torque
-        assert!((s.measured_torque_n_m(1e3).abs() - s.torsion_bar.stop_torque_n_m()).abs() < 1e-9);
     }
 
     #[test]
     fn bridge_is_balanced_when_both_circuits_are_equal() {
-        // an infinitely wide toothed gap (vanishing reluctance) makes L_B = L_A: no bridge voltage
-        let mut s = sensor();
-        s.teeth.axial_length_m = 1e30;
-        assert!(s.zero_torque_demodulated_v().abs() < 1e-15);
+        // an infinitely wide toothed gap (vanishing reluctance) makes L_B = L_A: no bridge voltage,
+        // in either topology (with R1 = R2 in the book's)
+        for topology in [Topology::ResistorAboveEachWinding, Topology::WindingsInOneArm] {
+            let mut s = Sensor { topology, ..first_set() };
+            s.teeth.faces = ToothFaces::Radial { radius_m: 0.012, axial_length_m: 1e30 };
+            assert!(s.zero_torque_demodulated_v().abs() < 1e-15, "{topology:?}");
+        }
     }
 
     #[test]
     fn differential_arrangement_is_balanced_and_odd() {
         // both arms cross the toothed gap, at opposite twists: L_A(t) = L_B(-t), so u(-t) = -u(t)
-        let s = Sensor { differential: true, ..sensor() };
-        assert!(s.zero_torque_demodulated_v().abs() < 1e-15);
-        for twist in [0.01, 0.05] {
-            let (up, down) = (s.steady_demodulated_v(twist), s.steady_demodulated_v(-twist));
-            assert!((up + down).abs() < 1e-12 * up.abs(), "{up} {down}");
+        for topology in [Topology::ResistorAboveEachWinding, Topology::WindingsInOneArm] {
+            let s = Sensor { differential: true, topology, ..first_set() };
+            assert!(s.zero_torque_demodulated_v().abs() < 1e-15);
+            for twist in [0.01, 0.05] {
+                let (up, down) = (s.steady_demodulated_v(twist), s.steady_demodulated_v(-twist));
+                assert!((up + down).abs() < 1e-12 * up.abs(), "{up} {down}");
+            }
+        }
+    }
+
+    #[test]
+    fn inductance_rates_are_the_derivatives() {
+        for (differential, sign) in [(false, 1.0), (true, 1.0), (false, -1.0), (true, -1.0)] {
+            let s = Sensor { differential, teeth_sign: sign, ..first_set() };
+            let (h, t) = (1e-7, 0.03);
+            let (a1, b1) = s.inductances_h(t + h);
+            let (a0, b0) = s.inductances_h(t - h);
+            let (da, db) = s.inductance_rates_h_per_rad(t);
+            assert!((db - (b1 - b0) / (2.0 * h)).abs() < 1e-6 * db.abs());
+            if differential {
+                assert!((da - (a1 - a0) / (2.0 * h)).abs() < 1e-6 * da.abs());
+            } else {
+                assert_eq!(da, 0.0);
+            }
         }
     }
 
     #[test]
     fn question4_inductance_ignores_the_iron() {
-        let s = sensor();
+        let s = first_set();
         let mu0 = 4e-7 * PI;
         let closed_form = PI * mu0 * 0.002 * 1e6 / (0.0165f64 / 0.015).ln();
         assert!((s.question4_inductance_h() / closed_form - 1.0).abs() < 1e-12);
