@@ -985,7 +985,12 @@ impl<M: Model> Instance<M> {
         // unknown the first estimate that agrees with the next finer one (to 1e-4: far above
         // rounding, far below the jump of a straddled kink) is kept, so a kink near the point
         // (an activity's |power|) is not straddled, while smooth equations keep the first
-        // step's small rounding error; if none agree, the first estimate stands.
+        // step's small rounding error; if none agree, the first estimate stands. Agreement is
+        // judged against the largest of the five estimates: where the first step straddles a
+        // kink and the function is flat on the near side (MotorFan's rigid reducer 6e-6 rad/s
+        // after standstill, whose efficiency switches with the sign of the speed), the finer
+        // estimates are rounding noise around zero, which never agree with each other by their
+        // own size; by the jump's they do.
         let h0 = (0..slots.len())
             .filter(|j| dv_known[*j] != 0.0)
             .map(|j| 1e-7 * value(j).abs().max(slots[j].2) / dv_known[j].abs())
@@ -1026,7 +1031,8 @@ impl<M: Model> Instance<M> {
         };
         let estimates: Vec<Vec<f64>> = (0..5).map(|r| central(h0 / 10f64.powi(r))).collect();
         for (u, out) in dv_unknown.iter_mut().enumerate() {
-            let agree = |a: f64, b: f64| (a - b).abs() <= 1e-4 * a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
+            let scale = estimates.iter().map(|e| e[u].abs()).fold(f64::MIN_POSITIVE, f64::max);
+            let agree = |a: f64, b: f64| (a - b).abs() <= 1e-4 * scale;
             *out = (0..4).find(|r| agree(estimates[*r][u], estimates[r + 1][u])).map(|r| estimates[r][u]).unwrap_or(estimates[0][u]);
         }
         Ok(())

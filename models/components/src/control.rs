@@ -90,6 +90,18 @@ impl SecondOrderFilter {
         SecondOrderFilter::from_coefficients(A1 / wc, A2 / (wc * wc))
     }
 
+    /// The filter w^2 / (s^2 + 2 D w s + w^2) given by its angular frequency w in rad/s (as
+    /// Modelica's `SecondOrder` block takes it: the book writes w = 2*3.14*800 for the PI start's
+    /// torque actuator, book file Chap3_CoolingTowerFan.mo, component secondOrder).
+    /// ```
+    /// use components::SecondOrderFilter;
+    /// let f = SecondOrderFilter::from_angular_frequency(2.0 * 3.14 * 800.0, 1.0);
+    /// assert!((f.natural_frequency_hz - 800.0 * 3.14 / std::f64::consts::PI).abs() < 1e-9);
+    /// ```
+    pub fn from_angular_frequency(angular_frequency_rad_per_s: f64, damping: f64) -> Self {
+        SecondOrderFilter { natural_frequency_hz: angular_frequency_rad_per_s / (2.0 * PI), damping }
+    }
+
     /// y'' for input `u`, output `y` and its rate `y_rate`.
     pub fn acceleration(&self, u: f64, y: f64, y_rate: f64) -> f64 {
         let wn = 2.0 * PI * self.natural_frequency_hz;
@@ -143,6 +155,7 @@ impl Multiplier {
 pub struct PiController {
     pub proportional_gain: f64,
     pub integral_gain: f64,
+    /// The limit on |command|, N m; `f64::INFINITY` for none (then nothing is ever clamped).
     pub output_limit: f64,
     /// The anti-windup tracking time constant T_t, s (> 0).
     pub tracking_time_s: f64,

@@ -6,6 +6,7 @@
 //!   state is exactly the equivalent circuit's.
 
 use crate::complex::Complex;
+use crate::roots::bisect;
 use std::f64::consts::{PI, SQRT_2};
 
 /// Parameters of a three-phase, star-connected induction machine.
@@ -134,22 +135,14 @@ impl InductionMachine {
     pub fn stable_speed_rad_per_s(&self, load_torque_n_m: impl Fn(f64) -> f64) -> Option<f64> {
         let w_sync = self.synchronous_speed_rad_per_s();
         let excess = |w: f64| self.steady_state(w).torque_n_m - load_torque_n_m(w);
-        let (mut lo, mut hi) = (w_sync * (1.0 - self.breakdown_slip()), w_sync);
+        let (lo, hi) = (w_sync * (1.0 - self.breakdown_slip()), w_sync);
         if excess(lo) < 0.0 {
             return None;
         }
         if excess(hi) >= 0.0 {
             return Some(hi);
         }
-        for _ in 0..80 {
-            let mid = 0.5 * (lo + hi);
-            if excess(mid) >= 0.0 {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        Some(0.5 * (lo + hi))
+        Some(bisect(lo, hi, 80, |w| excess(w) >= 0.0))
     }
 
     /// The slip, on the stable branch, at which the machine gives `torque` (clamped to the
@@ -157,16 +150,7 @@ impl InductionMachine {
     pub fn stable_slip_for_torque(&self, torque_n_m: f64) -> f64 {
         let s_bd = self.breakdown_slip();
         let target = torque_n_m.abs();
-        let (mut lo, mut hi) = (0.0, s_bd);
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if self.steady_state_at_slip(mid).torque_n_m < target {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        0.5 * (lo + hi) * torque_n_m.signum()
+        bisect(0.0, s_bd, 60, |s| self.steady_state_at_slip(s).torque_n_m < target) * torque_n_m.signum()
     }
 
     /// Self inductances and the determinant of the flux-current relation.

@@ -25,7 +25,7 @@
 //! Modules: [`electrical`] (R, L, C), [`mechanical`] (inertia, torsion spring and bar, reducer, cable drum,
 //! fan load), [`dc`] (the DC machine of eq. 3.9, the chopper), [`induction`] (the induction machine, circuit and dq), [`control`] (ramps, filter,
 //! multiplier, PI), [`sources`], [`thermal`] (nodes and conductances), [`magnetic`] (reluctances
-//! and windings), [`activity`] (eq. 3.3). Every element has an example in its documentation
+//! and windings), [`activity`] (eq. 3.3), [`table`] (a motor's torque-speed table), [`roots`] (bisection). Every element has an example in its documentation
 //! (`cargo doc -p components --open`).
 
 pub mod activity;
@@ -36,7 +36,9 @@ pub mod electrical;
 pub mod induction;
 pub mod magnetic;
 pub mod mechanical;
+pub mod roots;
 pub mod sources;
+pub mod table;
 pub mod thermal;
 
 pub use control::{Multiplier, PiController, SecondOrderFilter, SpeedRamp};
@@ -46,4 +48,5 @@ pub use induction::{Fluxes, InductionMachine};
 pub use magnetic::{Reluctance, RlWinding, ToothFaces, ToothedAirGap, Winding, MU_0_H_PER_M};
 pub use mechanical::{CableDrum, CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring};
 pub use sources::{Ramp, SineVoltage};
+pub use table::{Interpolation, TorqueSpeedTable};
 pub use thermal::{ThermalConductance, ThermalNode};
