@@ -1,17 +1,22 @@
 """The chapter's figures (examples/): every script runs on a short horizon and writes its files,
-and the chapter's two reduction findings are checked on the full-length FMU runs.
+and the chapter's reduction findings are checked on the full-length FMU runs.
 
 * Every example script runs alone, as a user would (`python examples/<script>.py --short --out DIR`),
   all at once in subprocesses; each must exit 0 and write its PNG (and Table 3.3's markdown), non-empty.
 * examples/make_figures.py (the one command) lists every script.
 * Table 3.3 (chapter 3.3.2): the shaft stiffness' share of the activity falls by >= 10x with the PI
-  controller (level c, 30 s runs of dist/MotorFan.fmu).
+  controller (level c, 30 s runs of dist/MotorFan.fmu), and the script's table rounds to the digits the
+  chapter prints.
 * Figure 3.11 (chapter 3.3.3): under speed control the one-at-a-time +-10 % sweep finds fan inertia the
   most influential parameter on the peak shaft torque (30 s runs, in the script's process pool).
+* Figure 3.13 (chapter 3.3.3): with the set point filtered below 1.4 Hz the shaft's elasticity is
+  negligible for the peak torque: holds on the book's 10 s ramp through the filter, not on a step
+  through it (a strict xfail).
 * The Dask path of the sweep: the script with `--scheduler ADDRESS` against an in-process
   dask.distributed LocalCluster on tcp (worker threads in this process: the client, the upload of the
   modules and the scattered FMU bytes are exercised, separate worker machines are not); its results
   equal the process pool's.
+The MotorFan checks run with its defaults, the book authors' values (book file Chap3_CoolingTowerFan.mo).
 The figures are written to pytest's temporary directory, never to docs/figures.
 """
 
@@ -102,7 +107,18 @@ def test_table_3_3_controller_removes_the_shaft_stiffness_activity(fmus, tmp_pat
         assert abs(sum(s[start].values()) - 100.0) < 1e-6, f"{start}: shares do not sum to 100 %"
     assert dol > 0 and pi > 0
     assert dol / pi >= 10.0, f"shaft stiffness share {dol:.3f} % without controller, {pi:.3f} % with PI: only {dol / pi:.1f}x"
-    assert "shaft stiffness" in md and f"{pi:.2f}" in md
+    assert "shaft stiffness" in md and f"{pi:.3f}" in md
+    # The chapter's printed digits (its Table 3.3, read as table.CHAPTER: motor / shaft / fan): with the
+    # book file's values each share of the script's direct-on-line and PI columns rounds to the decimals
+    # the chapter prints (44.3 / 9 / 46.7 and 12 / 0.3 / 87.7; the same check against an independent
+    # integration is in test_motor_fan_book.py). The references are the chapter's numbers, not a run.
+    decimals = {"share_motor_inertia": (1, 0), "share_shaft_stiffness": (0, 1), "share_fan_inertia": (1, 1)}
+    for col, start in enumerate(starts[:2]):
+        for name, chapter in table.CHAPTER.items():
+            d = decimals[name][col]
+            got = s[start][name]
+            assert round(got, d) == chapter[col], (
+                f"{start}, {table.ELEMENTS[name]}: {got:.4f} % rounds to {round(got, d)}, the chapter prints {chapter[col]}")
 
 
 def test_figure_3_11_fan_inertia_is_the_most_influential(fmus):
@@ -163,24 +179,54 @@ def test_each_fmu_documentation_shows_its_figures(fmus):
             assert f'<img src="{png}"' in html, f"{fmu.name}'s index.html does not show {png}"
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "Chapter 3.3.3 / Figure 3.13: with the set point filtered below 1.4 Hz 'the effect of the driveshaft "
-    "elasticity can be neglected when sizing the reducer'. Measured (level c, PI, step set point through the "
-    "0.5 Hz filter, 30 s): elastic shaft peak 2756 N m vs rigid 2324 N m (+19 %), elasticity adds up to 1211 N m; "
-    "with the 5 Hz filter 3959 vs 2316 N m (+71 %), up to 2138 N m. The 0.5 Hz filter does cut the shaft's "
-    "part by 43 %, but the PI controller's torque still rises within ~0.2 s (and saturates at T_limit), a "
-    "torque step that excites the 3.9 Hz two-inertia mode: the filter only shapes the set point. We report this "
-    "rather than retune the controller."))
-def test_figure_3_13_elasticity_negligible_below_resonance(fmus):
-    # reference: chapter 3.3.3 (Figure 3.13). Criterion for "negligible when sizing": the elastic shaft's
-    # peak torque within 10 % of the rigid shaft's, with the set point filtered below 1.4 Hz.
+# Figure 3.13 (chapter 3.3.3): "Figure 3.13 illustrates two different cases, below and above 1.4 Hz, and
+# shows the advantage of using a filtered speed set point to avoid resonance mode excitation. In this
+# latter case, the effect of the driveshaft elasticity can be neglected when sizing the reducer."
+# Criterion for "negligible when sizing": with the set point filtered below 1.4 Hz, the elastic shaft's
+# peak torque within 10 % of the rigid shaft's, either way (the first set's test asked only "not more
+# than 10 % over"; a rigid model that overstates the peak by far does not size the reducer either, so
+# now both ways: this is stricter, and the verdicts are those of the one-sided form, the step fails
+# and the ramp holds); and the filter below must excite the shaft less than the one above (largest
+# |elastic - rigid|). The chapter does not say
+# what went into the filter and the book file has no model of the figure, so both readings are tested:
+# a step (this project's since its first set) and the book's own 10 s ramp (Transient_SpeedControler,
+# whose filter secondOrder1 the text describes). Neither replaces the other.
+
+
+def _figure_3_13_verdict(set_point: str):
     import fig3_13_setpoint_filter as fig
 
-    runs = fig.run(short=False)
-    elastic = float(max(abs(runs[(1, True)]["shaft_torque"])))
-    rigid = float(max(abs(runs[(1, False)]["shaft_torque"])))
+    runs = fig.run(short=False, set_point=set_point)
+    (elastic, rigid), (elastic_above, rigid_above) = fig.peaks(runs, 1), fig.peaks(runs, 2)
     below, above = fig.elasticity_torque(runs, 1), fig.elasticity_torque(runs, 2)
-    print(f"\nfilter below: elastic {elastic:.0f} N m, rigid {rigid:.0f} N m; elasticity adds {below:.0f} N m "
-          f"(above: {above:.0f} N m)")
+    print(f"\n{set_point}, filter below: elastic {elastic:.1f} N m, rigid {rigid:.1f} N m ({elastic / rigid - 1:+.1%}); "
+          f"elasticity adds {below:.1f} N m; filter above: elastic {elastic_above:.1f} N m, rigid {rigid_above:.1f} N m "
+          f"({elastic_above / rigid_above - 1:+.1%}); elasticity adds {above:.1f} N m")
+    return elastic, rigid, elastic_above, rigid_above, below, above
+
+
+def test_figure_3_13_elasticity_negligible_below_resonance_on_the_books_ramp(fmus):
+    elastic, rigid, elastic_above, rigid_above, below, above = _figure_3_13_verdict("ramp")
     assert below < above, "the filter below 1.4 Hz must excite the shaft less than the one above"
-    assert elastic <= 1.10 * rigid, f"elastic peak {elastic:.0f} N m is {elastic / rigid - 1:+.0%} over the rigid {rigid:.0f} N m"
+    assert abs(elastic / rigid - 1) <= 0.10, f"elastic peak {elastic:.0f} N m is {elastic / rigid - 1:+.0%} from the rigid {rigid:.0f} N m"
+    # The criterion must tell the two cases apart, or a ramp too slow to excite anything would pass it
+    # whatever the filter: above 1.4 Hz the elasticity is not negligible by the same 10 %.
+    assert abs(elastic_above / rigid_above - 1) > 0.10, (
+        f"filter above 1.4 Hz: elastic {elastic_above:.0f} N m within 10 % of rigid {rigid_above:.0f} N m: "
+        "the experiment does not discriminate")
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "Chapter 3.3.3 / Figure 3.13 with a step set point through the filter (the book's values: PI Kp 10000, "
+    "Ki 100000, no torque limit, 800 Hz actuator, 300 rad/s): with the 0.4997 Hz (2*3.14*0.5 rad/s) D = 1 "
+    "filter the elastic shaft peaks at 7923 N m against the rigid shaft's 4363 N m (+82 %), the elasticity "
+    "adds up to 3858 N m; with the 5 Hz filter 29020 against 43734 N m (-34 %), up to 42817 N m. The filter "
+    "below does excite the shaft 11x less, but its step response starts with a step of jerk: the "
+    "acceleration rises to 347 rad/s2 within 0.32 s, under half the 0.75 s period of the 1.33 Hz shaft mode "
+    "(motor speed imposed), which rings (the set point does it, not the 800 Hz actuator: without it the "
+    "elastic peak is the same to 0.1 N m). On the book's 10 s ramp the claim holds (the test above). "
+    "Strict: if it ever holds, this XPASS fails and the README must be updated."))
+def test_figure_3_13_elasticity_negligible_below_resonance_on_a_step(fmus):
+    elastic, rigid, _, _, below, above = _figure_3_13_verdict("step")
+    assert below < above, "the filter below 1.4 Hz must excite the shaft less than the one above"
+    assert abs(elastic / rigid - 1) <= 0.10, f"elastic peak {elastic:.0f} N m is {elastic / rigid - 1:+.0%} from the rigid {rigid:.0f} N m"

@@ -153,6 +153,41 @@ def compare(fmu, label: str, stop_time: float, output_interval: float, start_val
     )
     rows = [header, f"  {'output':<28} {'range (CS)':>12} {'max |ME-CS|':>12} {'rel. error':>10} {'at t':>9}"]
     failures = []
+    units = {v.name: v.unit for v in md.modelVariables}
+
+    def limit_of(name):
+        if activity_rel_tol is not None and "activity" in descriptions.get(name, "").lower():
+            return max(rel_tol, activity_rel_tol(calls))
+        return rel_tol
+
+    def span_of(name):
+        y = np.asarray(cs[name], dtype=float)
+        return float(np.max(y) - np.min(y))
+
+    def derived_bound(name):
+        """The per-point bound an output inherits from the outputs it is computed from, or None
+        (tests/tests/model_exchange_strict.rs, derived_bounds): a share of the total activity,
+        s_i = 100 A_i / sum A, is off by up to 200 sum bound(A) / sum A(t), unbounded while the
+        activities are near zero at the start; an algebraic function y = f(x) of another output
+        (FUNCTIONS_OF_AN_OUTPUT) by up to |f'(x)| bound(x), f' the CS run's slope."""
+        description = descriptions.get(name, "").lower()
+        if units.get(name) == "%" and "share" in description and "activity" in description:
+            activities = [n for n in names if units.get(n) == "J" and descriptions.get(n, "").startswith("Activity of")]
+            if not activities:
+                return None
+            total_bound = sum(limit_of(a) * span_of(a) for a in activities)
+            total = np.sum([np.asarray(cs[a], dtype=float) for a in activities], axis=0)
+            with np.errstate(divide="ignore"):
+                return np.where(total > 0.0, 200.0 * total_bound / np.where(total > 0.0, total, 1.0), np.inf)
+        of = FUNCTIONS_OF_AN_OUTPUT.get((fmu.stem, name))
+        if of is None:
+            return None
+        x, y = np.asarray(cs[of], dtype=float), np.asarray(cs[name], dtype=float)
+        dx, dy = np.gradient(x), np.gradient(y)
+        moving = np.abs(dx) > 1e-9 * span_of(of)
+        slope = np.where(moving, np.abs(dy) / np.where(moving, np.abs(dx), 1.0), 0.0)
+        return slope * limit_of(of) * span_of(of)
+
     for name in names:
         y_cs = np.asarray(cs[name], dtype=float)
         y_me = np.asarray(me[name], dtype=float)
@@ -163,11 +198,15 @@ def compare(fmu, label: str, stop_time: float, output_interval: float, start_val
         span = float(np.max(y_cs) - np.min(y_cs))
         scale = max(span, ABS_FLOOR)
         diff = np.abs(y_me - y_cs)
-        k = int(np.argmax(diff))
+        # Per point: the output's own bound, or the one it inherits where that is larger; the
+        # worst point is the one nearest its bound. The limit is reported relative to the range.
+        allowed = np.full(len(diff), limit_of(name) * scale)
+        inherited = derived_bound(name)
+        if inherited is not None:
+            allowed = np.maximum(allowed, inherited)
+        k = int(np.argmax(diff / allowed))
         rel = float(diff[k] / scale)
-        limit = rel_tol
-        if activity_rel_tol is not None and "activity" in descriptions.get(name, "").lower():
-            limit = max(rel_tol, activity_rel_tol(calls))
+        limit = float(allowed[k] / scale)
         flag = "" if rel <= limit else "  <-- FAIL"
         rows.append(f"  {name:<28} {span:12.5g} {diff[k]:12.4g} {rel:10.2e} {t_cs[k]:9.4f} (limit {limit:.2e}){flag}")
         if rel > limit:
@@ -220,6 +259,17 @@ def test_motor_fan_model_exchange_matches_co_simulation(config):
 #
 # Cost: the output grid is coarsened to at most SWEEP_POINTS points (a multiple of stepSize;
 # events are located by CVode and the FMU regardless of the grid), so the sweep adds little to CI.
+
+# Outputs computed from another output (the bound they inherit: `derived_bound` in `compare`):
+# (model, output) -> the output it is an algebraic function of. MotorFan's motor torque at levels
+# a-c is the torque-speed table at the motor speed (slope down to -21 N m per rad/s between 280
+# and 300 rad/s: the speed's error, amplified 8.5 times against the torque's range), its current
+# and power the circuit's at that speed.
+FUNCTIONS_OF_AN_OUTPUT = {
+    ("MotorFan", "motor_torque"): "motor_speed",
+    ("MotorFan", "electrical_power"): "motor_speed",
+    ("MotorFan", "stator_current_rms"): "motor_speed",
+}
 
 SWEEP_TOLERANCES = (1e-4, 1e-6, 1e-8)
 SWEEP_K = 1000.0

@@ -179,6 +179,9 @@ pub struct MeResult {
     pub events: Vec<Event>,
     pub event_rows: Vec<Vec<f64>>,
     pub stats: MeStats,
+    /// The end time of every accepted step: the instants at which the master compares the event
+    /// indicators' signs (a sign excursion between two of them is invisible to it).
+    pub step_ends: Vec<f64>,
 }
 
 /// The experiment.
@@ -506,6 +509,7 @@ pub fn simulate_strict<M: MeModel>(
         };
         let (a, t1, h_taken) = attempt;
         result.stats.accepted_steps += 1;
+        result.step_ends.push(t1);
 
         // Indicators at the step end; crossings of active ones.
         let mut ghi = vec![0.0; nz];

@@ -31,14 +31,26 @@
 //!   ME's): 2 N; and the integrand has kinks (|P| where P changes sign) that no event marks, where
 //!   a step's actual local error exceeds the embedded pair's estimate: x2.
 //!
+//! Two kinds of output inherit their bound, point by point, from the outputs they are computed
+//! from (`derived_bounds`), where that is larger: a share of the total activity, 100 A_i / sum A,
+//! whose error is up to 200 sum bound(A) / sum A(t) (unbounded near the start, where every
+//! activity is near zero: MotorFan's filtered PI start has sum A ~ 1e-6 J at 5 ms); and an
+//! algebraic function y = f(x) of another output (`FUNCTIONS_OF_AN_OUTPUT`: MotorFan's table
+//! motor torque, current and power of the motor speed), whose error is up to |f'(x)| bound(x)
+//! (the table's slope amplifies the speed's error 8.5 times against the torque's range).
+//!
 //! The 1e3 eps max|y| term is the round-off floor that matters at 1e-8 for outputs with a large
 //! offset and a small range. The measured ratio |y_ME - y_CS| / (rtol range) is printed for every
 //! output, so the margin is visible.
 //!
 //! Events: where an FMU declares `state_events` (the Integer local counting handled state
-//! events) its value at the end of the ME and CS runs must be equal, and every ME state event
-//! must fall in (or within one output interval of) a communication interval in which CS's count
-//! went up. The table of counts and times is printed (`--nocapture`).
+//! events) every ME state event must fall in (or within one output interval of) a communication
+//! interval in which CS's count went up, in order (where the indicator is an output, within the
+//! time that output's bound takes at its slope: `event_windows`), and the final counts must agree but for
+//! pairs of CS events that ME cannot see: an indicator that leaves its sign and comes back between
+//! two of ME's step ends (a master compares the signs at step ends only). At rtol 1e-4 the strict
+//! master steps 54 ms on average through MotorFan's run-up and steps over the shaft torque's
+//! first 17 ms dip below zero (0.2535-0.2707 s), which CS, at its 1e-11 floor, locates. The table of counts and times is printed (`--nocapture`).
 
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -174,16 +186,22 @@ fn run_case(case: &Case) -> Outcome {
             .is_some_and(|d| d.to_lowercase().contains("activity"));
         let k_factor = if activity { k_activity } else { K_MIN };
         let bound = k_factor * exp.rtol * (range + nominal_floor) + 1e3 * f64::EPSILON * peak;
-        let mut worst = (0.0f64, 0usize);
+        // Per point, what the bounds of the outputs this one is computed from allow (module
+        // comment: shares and algebraic functions of another output).
+        let derived = derived_bounds(case, name, &names, &cs_y, exp.rtol, k_activity);
+        let mut worst = (0.0f64, 0usize, bound);
         for (k, row) in me.grid.iter().enumerate().take(cs_y.len()) {
             if near_event[k] {
                 continue;
             }
             let d = (row[j] - cs_y[k][j]).abs();
-            if !d.is_finite() || d > worst.0 || d.is_nan() {
-                worst = (if d.is_finite() { d } else { f64::INFINITY }, k);
+            let allowed = derived.as_ref().map_or(bound, |b| bound.max(b[k]));
+            // The worst point is the one nearest its bound (or beyond it).
+            if !d.is_finite() || d / allowed > worst.0 / worst.2 || d.is_nan() {
+                worst = (if d.is_finite() { d } else { f64::INFINITY }, k, allowed);
             }
         }
+        let bound = worst.2;
         let ratio = if range > 0.0 { worst.0 / (exp.rtol * range) } else { 0.0 };
         let ok = worst.0 <= bound;
         table.push(format!(
@@ -222,24 +240,20 @@ fn run_case(case: &Case) -> Outcome {
         None => (None, None),
     };
     if let (Some(a), Some(b)) = (me_count, cs_final) {
-        if a != b {
-            failures.push(format!("state_events: ME {a}, CS {b}"));
-        }
-        // Each ME state event in (or next to) a CS interval with an event, in order.
-        if me_state.len() == cs_event_intervals.len() {
-            for (te, tc) in me_state.iter().zip(&cs_event_intervals) {
-                // tc is the end of the interval (tc - dt, tc]
-                if *te < tc - 2.0 * exp.output_interval || *te > tc + exp.output_interval {
-                    failures.push(format!("state event at t = {te} (ME) but CS counted it in the interval ending at {tc}"));
-                    break;
+        // Each ME state event in (or next to) a CS interval with an event, in order; CS events
+        // that ME does not have must come in pairs that fall between two consecutive ME step
+        // ends (module comment).
+        let windows = event_windows(case, &names, &cs_t, &cs_y, &cs_event_intervals, exp.rtol, exp.output_interval);
+        match match_events(&me_state, &cs_event_intervals, &windows, &me.step_ends, exp.output_interval) {
+            Ok(invisible) => {
+                if a + 2 * invisible as i32 != b {
+                    failures.push(format!("state_events: ME {a}, CS {b}, {invisible} pairs invisible to ME"));
+                }
+                if invisible > 0 {
+                    table.push(format!("    {invisible} pair(s) of CS state events within one ME step, not seen by ME (a sign excursion between step ends)"));
                 }
             }
-        } else {
-            failures.push(format!(
-                "ME located {} state events, CS counted {} (state_events ME {a})",
-                me_state.len(),
-                cs_event_intervals.len()
-            ));
+            Err(e) => failures.push(format!("{e} (ME located {}, CS counted {}, state_events ME {a})", me_state.len(), cs_event_intervals.len())),
         }
     }
     let event_row = format!(
@@ -263,6 +277,134 @@ fn run_case(case: &Case) -> Outcome {
         ),
     );
     Outcome { label: case.label.clone(), rtol: exp.rtol, seconds_me, seconds_cs, table, event_row, failures }
+}
+
+/// Outputs computed from other outputs, whose error the others' bounds carry (module comment):
+/// (model, output, the output it is an algebraic function of). MotorFan's motor torque at
+/// levels a-c is the torque-speed table at the motor speed (slope down to -21 N m per rad/s
+/// between 280 and 300 rad/s), its current and power the circuit's at that speed.
+const FUNCTIONS_OF_AN_OUTPUT: &[(&str, &str, &str)] = &[
+    ("MotorFan", "motor_torque", "motor_speed"),
+    ("MotorFan", "electrical_power", "motor_speed"),
+    ("MotorFan", "stator_current_rms", "motor_speed"),
+];
+
+/// The per-point bound an output inherits from the outputs it is computed from, or None:
+/// * a share of the total activity (unit %, "share" in its description): s_i = 100 A_i / sum A,
+///   so |ds_i| <= 100 (|dA_i| + s_i/100 sum |dA|) / sum A <= 200 sum bound(A) / sum A(t), with
+///   bound(A) the activity bound (K_activity rtol range). Early in a run, while the activities are
+///   near zero, a share is not determined at any tolerance;
+/// * an algebraic function y = f(x) of another output (FUNCTIONS_OF_AN_OUTPUT): |dy| <=
+///   |f'(x)| bound(x), with f' the CS run's slope over the neighbouring points (dy/dx where x moves
+///   by more than 1e-9 of its range; elsewhere nothing is added).
+fn derived_bounds(case: &Case, name: &str, names: &[String], cs_y: &[Vec<f64>], rtol: f64, k_activity: f64) -> Option<Vec<f64>> {
+    let model = case.fmu.model_description().model_name.clone();
+    let column = |n: &str| names.iter().position(|m| m == n);
+    let range_of = |j: usize| {
+        let (lo, hi) = cs_y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r[j]), b.max(r[j])));
+        hi - lo
+    };
+    let var = case.fmu.variable(name).ok()?;
+    let description = var.description.as_deref().unwrap_or("").to_lowercase();
+    if var.unit.as_deref() == Some("%") && description.contains("share") && description.contains("activity") {
+        let activities: Vec<usize> = names
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| {
+                case.fmu.variable(n).ok().is_some_and(|v| v.unit.as_deref() == Some("J") && v.description.as_deref().is_some_and(|d| d.starts_with("Activity of")))
+            })
+            .map(|(j, _)| j)
+            .collect();
+        if activities.is_empty() {
+            return None;
+        }
+        let total_bound: f64 = activities.iter().map(|j| k_activity * rtol * range_of(*j)).sum();
+        return Some(
+            cs_y.iter()
+                .map(|r| {
+                    let total: f64 = activities.iter().map(|j| r[*j]).sum();
+                    if total > 0.0 { 200.0 * total_bound / total } else { f64::INFINITY }
+                })
+                .collect(),
+        );
+    }
+    let (_, _, of) = FUNCTIONS_OF_AN_OUTPUT.iter().find(|(m, y, _)| *m == model && *y == name)?;
+    let (jy, jx) = (column(name)?, column(of)?);
+    let x_range = range_of(jx);
+    let x_bound = K_MIN * rtol * x_range;
+    let n = cs_y.len();
+    Some(
+        (0..n)
+            .map(|k| {
+                let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
+                let dx = cs_y[b][jx] - cs_y[a][jx];
+                if dx.abs() > 1e-9 * x_range { ((cs_y[b][jy] - cs_y[a][jy]) / dx).abs() * x_bound } else { 0.0 }
+            })
+            .collect(),
+    )
+}
+
+/// Outputs whose sign changes are an FMU's state events (its indicator is the output times a
+/// positive factor): MotorFan's reducer power T_shaft N w_fan, with w_fan > 0 in the run-ups.
+const INDICATOR_OUTPUTS: &[(&str, &str)] = &[("MotorFan", "shaft_torque")];
+
+/// How far from each CS event interval (its end time) the ME event may lie: one output interval,
+/// plus, where the indicator is an output y (INDICATOR_OUTPUTS), the time y's own bound takes at
+/// its slope there, K rtol range(y) / |dy/dt| (a crossing's time is known no better than the
+/// indicator's value divided by its rate: grazing crossings at the end of MotorFan's run-up,
+/// where the shaft's ringing has nearly died away, move by 2.3 ms at rtol 1e-4).
+fn event_windows(case: &Case, names: &[String], cs_t: &[f64], cs_y: &[Vec<f64>], cs_events: &[f64], rtol: f64, dt: f64) -> Vec<f64> {
+    let model = case.fmu.model_description().model_name.clone();
+    let column = INDICATOR_OUTPUTS.iter().find(|(m, _)| *m == model).and_then(|(_, y)| names.iter().position(|n| n == y));
+    cs_events
+        .iter()
+        .map(|tc| {
+            let Some(j) = column else { return dt };
+            let (lo, hi) = cs_y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r[j]), b.max(r[j])));
+            let k = cs_t.partition_point(|t| t < tc).clamp(1, cs_t.len() - 1);
+            let slope = ((cs_y[k][j] - cs_y[k - 1][j]) / (cs_t[k] - cs_t[k - 1])).abs();
+            dt + if slope > 0.0 { K_MIN * rtol * (hi - lo) / slope } else { f64::INFINITY }
+        })
+        .collect()
+}
+
+/// Pairs ME state events with the CS intervals in which CS counted one, in order. A CS event
+/// ME does not have is allowed only as one of a pair of consecutive CS events with no ME step
+/// end between them (the indicator left its sign and came back within one of ME's steps, so no
+/// master that compares signs at step ends can see it). Returns the number of such pairs.
+fn match_events(me: &[f64], cs: &[f64], windows: &[f64], step_ends: &[f64], dt: f64) -> Result<usize, String> {
+    let near = |i: usize, j: usize| me[i] >= cs[j] - dt - windows[j] && me[i] <= cs[j] + windows[j];
+    // cs[j] and cs[j + 1] happen in (cs[j] - dt, cs[j + 1]]: invisible if no step end lies in
+    // [cs[j], cs[j + 1] - dt] (the latest first crossing and the earliest second one).
+    let invisible_pair = |j: usize| j + 1 < cs.len() && !step_ends.iter().any(|s| *s >= cs[j] && *s <= cs[j + 1] - dt);
+    // The alignment in order with the fewest invisible pairs, then the least total time offset:
+    // best[i][j] = (pairs, offset) to align me[i..] with cs[j..].
+    let (m, n) = (me.len(), cs.len());
+    let mut best = vec![vec![None::<(usize, f64)>; n + 1]; m + 1];
+    best[m][n] = Some((0, 0.0));
+    for i in (0..=m).rev() {
+        for j in (0..=n).rev() {
+            if i == m && j == n {
+                continue;
+            }
+            let mut options = Vec::new();
+            if i < m && j < n && near(i, j) {
+                if let Some((p, o)) = best[i + 1][j + 1] {
+                    options.push((p, o + (me[i] - cs[j]).abs()));
+                }
+            }
+            if j + 1 < n && invisible_pair(j) {
+                if let Some((p, o)) = best[i][j + 2] {
+                    options.push((p + 1, o));
+                }
+            }
+            best[i][j] = options.into_iter().min_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        }
+    }
+    match best[0][0] {
+        Some((pairs, _)) => Ok(pairs),
+        None => Err("the ME state events do not align with CS's in order, each within its window, but for pairs of CS events within one ME step".into()),
+    }
 }
 
 #[test]

@@ -40,7 +40,7 @@ const STOP: f64 = 30.0;
 const TOLERANCES: [Option<f64>; 3] = [None, Some(1e-7), Some(1e-9)];
 
 /// RK4 substeps per doStep the pythonfmu FMU is run with.
-const PY_SUBSTEPS: [i32; 2] = [1, 2];
+const PY_SUBSTEPS: [i32; 4] = [1, 2, 4, 8];
 
 /// Instances made at once for the memory figure.
 const MEMORY_INSTANCES: usize = 1000;

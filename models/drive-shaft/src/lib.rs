@@ -28,8 +28,9 @@ pub struct DriveShaft {
 const DOCUMENTATION: &str = r#"
 <p>The driveshaft of the cooling-tower fan (chapter 3, Figure 3.4) as a subsystem: a torsion spring with internal
 damping between the motor (angle_a, speed_a) and the reducer's high-speed shaft (angle_b, speed_b):
-theta = angle_a - angle_b, torque = K_shaft theta + D_shaft (speed_a - speed_b). K_shaft = 906.85 N m/rad
-gives the chapter's 1.4 Hz resonance against the fan inertia referred to the high-speed axis (eq. 3.8).</p>
+theta = angle_a - angle_b, torque = K_shaft theta + D_shaft (speed_a - speed_b). K_shaft = 866 N m/rad and
+D_shaft = 866/100/sqrt(886/1.7) (the book's, Chap3_CoolingTowerFan.mo, component spring) give the chapter's 1.4 Hz
+(1.37 Hz) resonance against the fan inertia referred to the high-speed axis (eq. 3.8).</p>
 <p>Coupling: angles and speeds in, torque out (direct feedthrough); the inertias it connects take torque in and give
 angles and speeds that are states, so no algebraic loop forms. The twist comes from the two angles rather than
 from integrating the speeds inside the shaft, so a master that holds inputs over a step does not accumulate a

@@ -2,36 +2,86 @@
 //! parameters (name, default, unit, bounds, source) and how to build its `components` element
 //! from them. `MotorFan` and the subsystem FMUs (`InductionMotor`, `DriveShaft`, `Fan`,
 //! `SpeedController`) declare their parameters through these, so the same name always has the
-//! same default, unit, bounds and description. The reasons behind each default are in
-//! `models/motor-fan/src/lib.rs` and `docs/motor-fan-spec.md`.
+//! same default, unit, bounds and description. The defaults are the book authors' own values
+//! (book file Chap3_CoolingTowerFan.mo, each description names its component); the reasons and
+//! the earlier chosen set are in `models/motor-fan/src/lib.rs` and `docs/motor-fan-spec.md`.
 
-use components::{FanLoad, InductionMachine, Inertia, PiController, Reducer, SecondOrderFilter, SpeedRamp, TorsionSpring};
+use components::{FanLoad, InductionMachine, Inertia, Interpolation, PiController, Reducer, SecondOrderFilter, SpeedRamp, TorqueSpeedTable, TorsionSpring};
 use fmu_runtime::prelude::*;
 
-/// The induction motor: rotor inertia and equivalent circuit (160 kW, 400 V, 4 poles).
+/// The book file's name, for the parameters' descriptions.
+pub const BOOK_FILE: &str = "Chap3_CoolingTowerFan.mo";
+
+/// Points of the book's torque-speed table (book file Chap3_CoolingTowerFan.mo, component
+/// TorqueSpeed): speed rad/s, torque N m.
+pub const BOOK_TABLE: [(f64, f64); TABLE_POINTS] =
+    [(0.0, 454.0), (80.0, 579.0), (160.0, 784.0), (220.0, 997.0), (240.0, 1057.0), (250.0, 1071.0), (260.0, 1060.0), (280.0, 919.0), (300.0, 500.0), (314.0, 0.0)];
+pub const TABLE_POINTS: usize = 10;
+
+/// Where the motor's torque comes from at levels a-c (level d always solves the circuit's dq
+/// model).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MotorCurve {
+    /// The torque-speed table.
+    Table(TorqueSpeedTable<TABLE_POINTS>),
+    /// The equivalent circuit's steady state.
+    Circuit,
+}
+
+/// The induction motor: rotor inertia, its torque-speed table (levels a-c, as the book's files)
+/// and its equivalent circuit (level d, the current drawn, converter-fed starts).
 pub struct MotorParameters {
     j_motor: Parameter,
+    motor_model: IntegerParameter,
+    table_interpolation: IntegerParameter,
+    table_speed: [Parameter; TABLE_POINTS],
+    table_torque: [Parameter; TABLE_POINTS],
     r_s: Parameter,
     r_r: Parameter,
     l_s_sigma: Parameter,
     l_r_sigma: Parameter,
     l_m: Parameter,
     pole_pairs: Parameter,
+    winding_connection: IntegerParameter,
     u_supply: Parameter,
     f_supply: Parameter,
 }
 
 impl MotorParameters {
     pub fn declare(d: &mut Declarations) -> Self {
+        let j_motor = d.parameter("J_motor", 1.72, "kg.m2").positive().tunable().describe("Motor rotor inertia (chapter 3.3.3; book file Chap3_CoolingTowerFan.mo, component inertia_motor)");
+        let motor_model = d
+            .integer_parameter("motor_model", 1)
+            .range(1, 2)
+            .describe("Motor torque below level d: 1 = the torque-speed table (the book's files), 2 = the equivalent circuit's steady state (R_s ... L_m)");
+        let table_interpolation = d.integer_parameter("motor_table_interpolation", 0).range(0, 2).describe(
+            "Reading of the torque-speed table: 0 = as the book's file for the level (MotorFan: linear at levels a and b as Steady_State and Transient_Dynamic, Akima at c as Transient_Resonance; InductionMotor: Akima), 1 = linear, 2 = Akima (CombiTable1D ContinuousDerivative)",
+        );
+        let table_speed = std::array::from_fn(|i| {
+            d.parameter(&format!("motor_table_speed_{}", i + 1), BOOK_TABLE[i].0, "rad/s")
+                .describe(&format!("Torque-speed table, point {} of {TABLE_POINTS}: motor speed (book file Chap3_CoolingTowerFan.mo, component TorqueSpeed; speeds must increase, checked at initialization, so fixed)", i + 1))
+        });
+        let table_torque = std::array::from_fn(|i| {
+            d.parameter(&format!("motor_table_torque_{}", i + 1), BOOK_TABLE[i].1, "N.m")
+                .tunable()
+                .describe(&format!("Torque-speed table, point {} of {TABLE_POINTS}: motor torque at motor_table_speed_{} (book file Chap3_CoolingTowerFan.mo, component TorqueSpeed)", i + 1, i + 1))
+        });
         MotorParameters {
-            j_motor: d.parameter("J_motor", 1.72, "kg.m2").positive().tunable().describe("Motor rotor inertia (chapter 3.3.3)"),
-            r_s: d.parameter("R_s", 0.012, "Ohm").positive().tunable().describe("Stator resistance per phase (chosen, 160 kW 400 V motor)"),
-            r_r: d.parameter("R_r", 0.020, "Ohm").positive().tunable().describe("Rotor resistance per phase, referred to the stator (chosen)"),
-            l_s_sigma: d.parameter("L_s_sigma", 2.5e-4, "H").positive().tunable().describe("Stator leakage inductance (chosen)"),
-            l_r_sigma: d.parameter("L_r_sigma", 2.5e-4, "H").positive().tunable().describe("Rotor leakage inductance, referred to the stator (chosen)"),
-            l_m: d.parameter("L_m", 0.01, "H").positive().tunable().describe("Magnetising inductance (chosen)"),
-            pole_pairs: d.parameter("pole_pairs", 2.0, "1").positive().describe("Pole pairs: 2 gives 1500 rpm synchronous speed at 50 Hz (chosen)"),
-            u_supply: d.parameter("U_supply", 400.0, "V").min(0.0).tunable().describe("Supply voltage, line to line, rms (chosen)"),
+            j_motor,
+            motor_model,
+            table_interpolation,
+            table_speed,
+            table_torque,
+            r_s: d.parameter("R_s", 0.038, "Ohm").positive().tunable().describe("Stator resistance per phase (the book's induction machine, result file Transient_InductionMachine_graphic.mat)"),
+            r_r: d.parameter("R_r", 0.038, "Ohm").positive().tunable().describe("Rotor resistance per phase, referred to the stator (the book's induction machine)"),
+            l_s_sigma: d.parameter("L_s_sigma", 2e-4, "H").positive().tunable().describe("Stator leakage inductance (the book's induction machine)"),
+            l_r_sigma: d.parameter("L_r_sigma", 4e-4, "H").positive().tunable().describe("Rotor leakage inductance, referred to the stator (the book's induction machine)"),
+            l_m: d.parameter("L_m", 0.012, "H").positive().tunable().describe("Magnetising inductance (the book's induction machine)"),
+            pole_pairs: d.parameter("pole_pairs", 1.0, "1").positive().describe("Pole pairs: 1 gives 3000 rpm (314 rad/s) synchronous at 50 Hz, where the book's table reaches zero torque"),
+            winding_connection: d.integer_parameter("winding_connection", 2).range(1, 2).describe(
+                "Stator windings: 1 = star (each winding sees U_supply / sqrt 3), 2 = delta (each sees U_supply; the book's machine, terminalBox.delta in its result files). R_s ... L_m are per winding and stator_current_rms is the winding current",
+            ),
+            u_supply: d.parameter("U_supply", 230.0, "V").min(0.0).tunable().describe("Supply voltage, line to line, rms (the book's induction machine: VNominal = 230 V, 50 Hz)"),
             f_supply: d.parameter("f_supply", 50.0, "Hz").positive().tunable().describe("Supply frequency (chapter: 50 Hz network)"),
         }
     }
@@ -44,9 +94,40 @@ impl MotorParameters {
             rotor_leakage_h: k[self.l_r_sigma],
             magnetizing_h: k[self.l_m],
             pole_pairs: k[self.pole_pairs],
-            line_voltage_rms_v: k[self.u_supply],
+            // The circuit is per winding, solved as the star of the same winding voltage.
+            line_voltage_rms_v: if k[self.winding_connection] == 2 { k[self.u_supply] * 3f64.sqrt() } else { k[self.u_supply] },
             frequency_hz: k[self.f_supply],
         }
+    }
+
+    /// The steady-state torque curve below level d. `akima_by_default`: how interpolation 0
+    /// reads the table (the book's choice for the level).
+    pub fn curve(&self, k: &Knowns, akima_by_default: bool) -> MotorCurve {
+        if k[self.motor_model] == 2 {
+            return MotorCurve::Circuit;
+        }
+        let interpolation = match k[self.table_interpolation] {
+            1 => Interpolation::Linear,
+            2 => Interpolation::Akima,
+            _ if akima_by_default => Interpolation::Akima,
+            _ => Interpolation::Linear,
+        };
+        MotorCurve::Table(TorqueSpeedTable {
+            speed_rad_per_s: self.table_speed.map(|p| k[p]),
+            torque_n_m: self.table_torque.map(|p| k[p]),
+            interpolation,
+        })
+    }
+
+    /// The table's speeds must increase (the interpolation divides by their differences).
+    pub fn check(&self, k: &Knowns) -> Result<(), String> {
+        for i in 1..TABLE_POINTS {
+            let (a, b) = (k[self.table_speed[i - 1]], k[self.table_speed[i]]);
+            if !(b > a) {
+                return Err(format!("motor_table_speed_{} = {b} rad/s must be above motor_table_speed_{} = {a} rad/s: the table's speeds increase", i + 1, i));
+            }
+        }
+        Ok(())
     }
 
     pub fn rotor(&self, k: &Knowns) -> Inertia {
@@ -54,7 +135,44 @@ impl MotorParameters {
     }
 }
 
-/// The driveshaft: stiffness from the 1.4 Hz resonance (eq. 3.8) and internal damping.
+/// The motor's steady state at one speed, whichever curve gives its torque.
+pub struct MotorSteadyState {
+    pub torque_n_m: f64,
+    /// From the equivalent circuit at this speed (a table gives no current).
+    pub current_rms_a: f64,
+    pub electrical_power_w: f64,
+}
+
+impl MotorCurve {
+    /// The torque at `speed`, and the circuit's current and power there.
+    pub fn steady_state(&self, machine: &InductionMachine, speed_rad_per_s: f64) -> MotorSteadyState {
+        let st = machine.steady_state(speed_rad_per_s);
+        let torque_n_m = match self {
+            MotorCurve::Table(t) => t.torque_n_m(speed_rad_per_s),
+            MotorCurve::Circuit => st.torque_n_m,
+        };
+        MotorSteadyState { torque_n_m, current_rms_a: st.stator_current_rms_a, electrical_power_w: st.electrical_power_w }
+    }
+
+    /// The torque alone (the derivatives need no current).
+    pub fn torque_n_m(&self, machine: &InductionMachine, speed_rad_per_s: f64) -> f64 {
+        match self {
+            MotorCurve::Table(t) => t.torque_n_m(speed_rad_per_s),
+            MotorCurve::Circuit => machine.steady_state(speed_rad_per_s).torque_n_m,
+        }
+    }
+
+    /// The stable operating speed under a load torque curve (None: the motor stalls).
+    pub fn stable_speed_rad_per_s(&self, machine: &InductionMachine, load_torque_n_m: impl Fn(f64) -> f64) -> Option<f64> {
+        match self {
+            MotorCurve::Table(t) => t.stable_speed_rad_per_s(load_torque_n_m),
+            MotorCurve::Circuit => machine.stable_speed_rad_per_s(load_torque_n_m),
+        }
+    }
+}
+
+/// The driveshaft: stiffness and internal damping (book file Chap3_CoolingTowerFan.mo, component
+/// spring of Transient_Resonance; the 1.4 Hz of eq. 3.8 with the referred fan inertia).
 pub struct ShaftParameters {
     k_shaft: Parameter,
     d_shaft: Parameter,
@@ -63,8 +181,8 @@ pub struct ShaftParameters {
 impl ShaftParameters {
     pub fn declare(d: &mut Declarations) -> Self {
         ShaftParameters {
-            k_shaft: d.parameter("K_shaft", 906.85, "N.m/rad").positive().tunable().describe("Driveshaft torsional stiffness: 11.72 (2 pi 1.4 Hz)^2 (eq. 3.8)"),
-            d_shaft: d.parameter("D_shaft", 5.0, "N.m.s/rad").min(0.0).tunable().describe("Driveshaft internal damping (chosen: 2.4 % of critical for the 1.4 Hz mode)"),
+            k_shaft: d.parameter("K_shaft", 866.0, "N.m/rad").positive().tunable().describe("Driveshaft torsional stiffness (book file Chap3_CoolingTowerFan.mo, component spring: c = 866; 1.37 Hz against the referred fan inertia, eq. 3.8)"),
+            d_shaft: d.parameter("D_shaft", 866.0 / 100.0 / (886.0f64 / 1.7).sqrt(), "N.m.s/rad").min(0.0).tunable().describe("Driveshaft internal damping (book file Chap3_CoolingTowerFan.mo, component spring: d = 866/100/sqrt(886/1.7), 886 as the file writes it)"),
         }
     }
 
@@ -78,21 +196,31 @@ pub struct FanParameters {
     j_fan: Parameter,
     gear_ratio: Parameter,
     gear_efficiency: Parameter,
-    k_fan: Parameter,
+    t_fan_nominal: Parameter,
+    speed_fan_nominal: Parameter,
 }
 
 impl FanParameters {
     pub fn declare(d: &mut Declarations) -> Self {
         FanParameters {
-            j_fan: d.parameter("J_fan", 1172.0, "kg.m2").positive().tunable().describe("Fan inertia on the low-speed side: 11.72 kg m2 x N^2 (eqs. 3.4-3.7)"),
-            gear_ratio: d.parameter("gear_ratio", 10.0, "1").positive().tunable().describe("Reducer ratio N = motor speed / fan speed (chosen)"),
+            j_fan: d.parameter("J_fan", 3000.0, "kg.m2").positive().tunable().describe("Fan inertia on the low-speed side (book file Chap3_CoolingTowerFan.mo, component inertia_fan; 11.72 kg m2 on the high-speed axis, eqs. 3.4-3.7)"),
+            gear_ratio: d.parameter("gear_ratio", 16.0, "1").positive().tunable().describe("Reducer ratio N = motor speed / fan speed (book file Chap3_CoolingTowerFan.mo, component lossyGear)"),
             gear_efficiency: d
-                .parameter("gear_efficiency", 0.97, "1")
+                .parameter("gear_efficiency", 0.94, "1")
                 .positive()
                 .max(1.0)
                 .tunable()
-                .describe("Reducer efficiency on the power it transmits (chosen, one gear stage)"),
-            k_fan: d.parameter("k_fan", 42.9, "N.m.s2/rad2").min(0.0).tunable().describe("Fan aerodynamic torque coefficient, T = k w_fan^2 (chosen: rated torque at rated speed)"),
+                .describe("Reducer efficiency on the power it transmits, either way (book file Chap3_CoolingTowerFan.mo, component lossyGear: lossTable 0.94, 0.94)"),
+            t_fan_nominal: d
+                .parameter("T_fan_nominal", 7742.6, "N.m")
+                .min(0.0)
+                .tunable()
+                .describe("Fan torque at speed_fan_nominal; the torque follows T_fan_nominal (w_fan / speed_fan_nominal)^2 against the rotation (book file Chap3_CoolingTowerFan.mo, component quadraticSpeedDependentTorque: tau_nominal = -7742.6)"),
+            speed_fan_nominal: d
+                .parameter("speed_fan_nominal", 19.373154697137, "rad/s")
+                .positive()
+                .tunable()
+                .describe("Fan speed at which the fan torque is T_fan_nominal (book file Chap3_CoolingTowerFan.mo, component quadraticSpeedDependentTorque: w_nominal = 19.373154697137; 19.37 in Steady_State)"),
         }
     }
 
@@ -105,7 +233,7 @@ impl FanParameters {
     }
 
     pub fn load(&self, k: &Knowns) -> FanLoad {
-        FanLoad { coefficient_n_m_s2_per_rad2: k[self.k_fan] }
+        FanLoad::from_nominal(k[self.t_fan_nominal], k[self.speed_fan_nominal])
     }
 
     /// The fan inertia seen from the high-speed axis, J_fan / N^2 (eq. 3.6).
@@ -135,7 +263,7 @@ impl TorqueLimitEvent {
 
     /// The indicator with the PI driving at this error and integral.
     pub fn indicator(&self, k: &Knowns, pi: &PiController, error: f64, integral: f64, z: &mut EventIndicators) {
-        z[self.indicator] = pi.limit_indicator(k[self.mode], error, integral);
+        z[self.indicator] = if pi.output_limit.is_finite() { pi.limit_indicator(k[self.mode], error, integral) } else { 1.0 };
     }
 
     /// The PI not driving (another start mode): never an event.
@@ -145,6 +273,9 @@ impl TorqueLimitEvent {
 
     /// The mode after an event; `error_rate` is de/dt (for the exact-limit case).
     pub fn update(&self, k: &Knowns, next: &mut ModeUpdate, pi: &PiController, error: f64, error_rate: f64, integral: f64) {
+        if !pi.output_limit.is_finite() {
+            return;
+        }
         next[self.mode] = pi.next_limit_mode(k[self.mode], error, integral, pi.raw_rate(error, error_rate, integral));
     }
 }
@@ -167,22 +298,22 @@ impl ControllerParameters {
     pub fn declare(d: &mut Declarations) -> Self {
         ControllerParameters {
             setpoint_filter: d
-                .integer_parameter("setpoint_filter", 0)
+                .integer_parameter("setpoint_filter", 1)
                 .range(0, 2)
-                .describe("Second-order set-point filter (Figure 3.13): 0 = off, 1 = filter_frequency_below, 2 = filter_frequency_above"),
-            speed_setpoint: d.parameter("speed_setpoint", 153.5, "rad/s").min(0.0).tunable().describe("Final motor speed of the variable-speed start (the direct-on-line equilibrium)"),
-            ramp_time: d.parameter("ramp_time", 10.0, "s").min(0.0).tunable().describe("Duration of the set-point ramp, 0 = a step (chapter: 10 s)"),
-            kp: d.parameter("Kp_speed", 200.0, "N.m.s/rad").min(0.0).tunable().describe("PI speed controller proportional gain (chosen)"),
-            ki: d.parameter("Ki_speed", 2000.0, "N.m/rad").min(0.0).tunable().describe("PI speed controller integral gain (chosen)"),
-            t_limit: d.parameter("T_limit", 2500.0, "N.m").positive().tunable().describe("Torque limit of the converter-fed motor (chosen, ~2.4x rated)"),
+                .describe("Second-order set-point filter (Figure 3.13): 0 = off, 1 = filter_frequency_below (the book's, component secondOrder1), 2 = filter_frequency_above"),
+            speed_setpoint: d.parameter("speed_setpoint", 300.0, "rad/s").min(0.0).tunable().describe("Final motor speed of the variable-speed start (book file Chap3_CoolingTowerFan.mo, component timeTable: 300 rad/s)"),
+            ramp_time: d.parameter("ramp_time", 10.0, "s").min(0.0).tunable().describe("Duration of the set-point ramp, 0 = a step (chapter and book file Transient_SpeedControler, component timeTable: 10 s; Activity_Index_controller: 20 s)"),
+            kp: d.parameter("Kp_speed", 10000.0, "N.m.s/rad").min(0.0).tunable().describe("PI speed controller proportional gain (book file Chap3_CoolingTowerFan.mo, component PI: k = 10000)"),
+            ki: d.parameter("Ki_speed", 100000.0, "N.m/rad").min(0.0).tunable().describe("PI speed controller integral gain (book file Chap3_CoolingTowerFan.mo, component PI: k / T = 10000 / 0.1)"),
+            t_limit: d.parameter("T_limit", 0.0, "N.m").min(0.0).tunable().describe("Torque limit of the converter-fed motor, 0 = none (the book's PI has none; the earlier chosen set: 2500)"),
             t_tracking: d
                 .parameter("T_tracking", 0.09, "s")
                 .positive()
                 .tunable()
-                .describe("Anti-windup tracking time constant: while the torque is clamped, the PI integral is driven back by (T_clamped - T_raw) / (Ki_speed T_tracking) (chosen: 0.9 Kp_speed/Ki_speed)"),
-            filter_below: d.parameter("filter_frequency_below", 0.5, "Hz").positive().tunable().describe("Set-point filter natural frequency below the 1.4 Hz resonance (Figure 3.13)"),
+                .describe("Anti-windup tracking time constant: while the torque is clamped, the PI integral is driven back by (T_clamped - T_raw) / (Ki_speed T_tracking) (chosen: 0.9 Kp_speed/Ki_speed; acts only with a T_limit)"),
+            filter_below: d.parameter("filter_frequency_below", 0.5 * 3.14 / std::f64::consts::PI, "Hz").positive().tunable().describe("Set-point filter natural frequency below the 1.4 Hz resonance (Figure 3.13; book file Chap3_CoolingTowerFan.mo, component secondOrder1: w = 2*3.14*0.5 rad/s, so 0.49975 Hz with its pi written 3.14)"),
             filter_above: d.parameter("filter_frequency_above", 5.0, "Hz").positive().tunable().describe("Set-point filter natural frequency above the 1.4 Hz resonance (Figure 3.13)"),
-            filter_damping: d.parameter("filter_damping", 0.7, "1").positive().tunable().describe("Set-point filter damping ratio"),
+            filter_damping: d.parameter("filter_damping", 1.0, "1").positive().tunable().describe("Set-point filter damping ratio (book file Chap3_CoolingTowerFan.mo, component secondOrder1: D = 1)"),
         }
     }
 
@@ -191,7 +322,9 @@ impl ControllerParameters {
     }
 
     pub fn controller(&self, k: &Knowns) -> PiController {
-        PiController { proportional_gain: k[self.kp], integral_gain: k[self.ki], output_limit: k[self.t_limit], tracking_time_s: k[self.t_tracking] }
+        let limit = k[self.t_limit];
+        let output_limit = if limit > 0.0 { limit } else { f64::INFINITY };
+        PiController { proportional_gain: k[self.kp], integral_gain: k[self.ki], output_limit, tracking_time_s: k[self.t_tracking] }
     }
 
     /// The set-point filter, if one is chosen.
@@ -206,6 +339,33 @@ impl ControllerParameters {
 
     pub fn ramp_time(&self, k: &Knowns) -> f64 {
         k[self.ramp_time]
+    }
+}
+
+/// The torque actuator of the PI start: the converter-fed motor follows the PI's command through
+/// a second-order lag (book file Chap3_CoolingTowerFan.mo, component secondOrder: w = 2*3.14*800
+/// rad/s, D = 1). Declared by MotorFan only: the SpeedController subsystem sends its command to
+/// InductionMotor without a lag.
+pub struct TorqueActuatorParameters {
+    angular_frequency: Parameter,
+    damping: Parameter,
+}
+
+impl TorqueActuatorParameters {
+    pub fn declare(d: &mut Declarations) -> Self {
+        TorqueActuatorParameters {
+            angular_frequency: d
+                .parameter("actuator_angular_frequency", 2.0 * 3.14 * 800.0, "rad/s")
+                .min(0.0)
+                .tunable()
+                .describe("Torque actuator's natural angular frequency, 0 = no lag (the motor torque is the PI's command; the earlier chosen set) (book file Chap3_CoolingTowerFan.mo, component secondOrder: w = 2*3.14*800, pi written 3.14)"),
+            damping: d.parameter("actuator_damping", 1.0, "1").positive().tunable().describe("Torque actuator's damping ratio (book file Chap3_CoolingTowerFan.mo, component secondOrder: D = 1)"),
+        }
+    }
+
+    /// The lag, or None when the command acts at once.
+    pub fn lag(&self, k: &Knowns) -> Option<SecondOrderFilter> {
+        (k[self.angular_frequency] > 0.0).then(|| SecondOrderFilter::from_angular_frequency(k[self.angular_frequency], k[self.damping]))
     }
 }
 

@@ -28,7 +28,7 @@ const DOCUMENTATION: &str = r#"
 high-speed shaft reaches the fan as N eta T when the power flows to the fan and N T / eta when it flows back
 (the direction is the discrete mode <code>reducer_power_flow</code>, switched at a state event where the power
 T N w changes sign, as in MotorFan);
-J_fan dw/dt = T_low - k_fan w |w|. Seen from the high-speed axis the fan inertia is J_fan / N<sup>2</sup> = 11.72 kg m<sup>2</sup>
+J_fan dw/dt = T_low - T_fan_nominal w |w| / speed_fan_nominal<sup>2</sup>. Seen from the high-speed axis the fan inertia is J_fan / N<sup>2</sup> = 11.72 kg m<sup>2</sup>
 (eqs. 3.4-3.7).</p>
 <p>Coupling: torque in, angle and speed out. Connect DriveShaft.torque to <code>shaft_torque</code>, and
 <code>angle_high</code> and <code>speed_high</code> (the reducer input angle and speed, N x the fan's, states) to
@@ -78,7 +78,7 @@ impl Model for Fan {
             y_speed_high: d.output("speed_high", "rad/s").describe("Reducer input speed on the high-speed axis, N x fan speed"),
             y_angle_high: d.output("angle_high", "rad").describe("Reducer input angle on the high-speed axis, N x fan angle"),
             y_fan_speed: d.output("fan_speed", "rad/s").describe("Fan speed (low-speed side)"),
-            y_aero_torque: d.output("aero_torque", "N.m").describe("Aerodynamic torque of the blades, k_fan w |w|"),
+            y_aero_torque: d.output("aero_torque", "N.m").describe("Aerodynamic torque of the blades, T_fan_nominal w |w| / speed_fan_nominal^2"),
             y_activity: d.output("activity_inertia", "J").describe("Activity of the fan inertia, integral of |J dw/dt w| (eq. 3.3)"),
         }
     }

@@ -56,14 +56,21 @@ impl InductionMotor {
             let dq = machine.dq_response(self.fluxes(k), w);
             return Operating { torque: dq.torque_n_m, current_rms: dq.stator_current_rms_a, power: dq.electrical_power_w, flux_rates: dq.flux_rates };
         }
-        let st = machine.steady_state(w);
-        Operating { torque: st.torque_n_m, current_rms: st.stator_current_rms_a, power: st.electrical_power_w, flux_rates: Fluxes::default() }
+        // Interpolation 0 reads the table by Akima's spline, as the book's level-c file.
+        let curve = self.motor.curve(k, true);
+        if !with_electrical {
+            return Operating { torque: curve.torque_n_m(&machine, w), current_rms: 0.0, power: 0.0, flux_rates: Fluxes::default() };
+        }
+        let st = curve.steady_state(&machine, w);
+        Operating { torque: st.torque_n_m, current_rms: st.current_rms_a, power: st.electrical_power_w, flux_rates: Fluxes::default() }
     }
 }
 
 const DOCUMENTATION: &str = r#"
 <p>The induction motor of the cooling-tower fan (chapter 3, sections 3.1-3.3) as a subsystem: rotor inertia
-J_motor dw/dt = T_m - load_torque, with T_m from the steady-state T-equivalent circuit, from the dq model
+J_motor dw/dt = T_m - load_torque, with T_m from the book's torque-speed table (<code>motor_model</code> = 1, read by
+Akima's spline; book file Chap3_CoolingTowerFan.mo, component TorqueSpeed) or the steady-state T-equivalent circuit
+(<code>motor_model</code> = 2; the current and power come from the circuit in both cases), from the dq model
 (<code>electrical_dynamics</code> = true: stator and rotor fluxes in the synchronous frame), or, with
 <code>drive</code> = 2, from a converter that follows <code>torque_command</code>.</p>
 <p>Coupling: torque in, angle and speed out. Connect <code>angle</code> and <code>speed</code> to DriveShaft.angle_a
@@ -118,6 +125,10 @@ impl Model for InductionMotor {
             y_power: d.output("electrical_power", "W").describe("Active power drawn (converter: mechanical power through an ideal converter)"),
             y_activity: d.output("activity_inertia", "J").describe("Activity of the rotor inertia, integral of |J dw/dt w| (eq. 3.3)"),
         }
+    }
+
+    fn check(&self, k: &Knowns) -> Result<(), String> {
+        self.motor.check(k)
     }
 
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {

@@ -24,6 +24,11 @@ controller with a torque limit and anti-windup by back-calculation: torque_comma
 dI/dt = e + (torque_command - (Kp e + Ki I)) / (Ki T_tracking).</p>
 <p>Coupling: speed in, torque out (direct feedthrough through Kp). The motor it drives takes torque in and gives its
 speed as a state, so no algebraic loop forms. The ramp's corners are announced as time events.</p>
+<p>Defaults: the book's (Chap3_CoolingTowerFan.mo, Transient_SpeedControler: Kp_speed 10000, Ki_speed 100000, no limit,
+300 rad/s in 10 s through the 2*3.14*0.5 rad/s filter). Those gains close a 5800 rad/s loop on the motor's 1.72 kg m<sup>2</sup>,
+which a master sampling the speed every 1 ms cannot hold (5.8 rad per step): coupled at such steps, use gains like
+Kp_speed 200, Ki_speed 2000 (the project's first set, what the coupled tests use) or a communication step far below 1 ms. The book's torque actuator lag
+is MotorFan's (<code>actuator_angular_frequency</code>), not this controller's.</p>
 "#;
 
 impl SpeedController {
