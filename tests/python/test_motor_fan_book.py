@@ -447,8 +447,10 @@ def test_level_d_against_transient_induction_machine_graphic():
           f"(file: 1936.757 N.m at its 7.496 s row)")
 
 
-def test_run_times():
-    # Not a check of the book: the cost of this module's runs (each cached, run once).
+@pytest.fixture(scope="module", autouse=True)
+def _print_run_times():
+    """Not a check: prints the cost of this module's runs (each cached, run once) after its tests."""
+    yield
     fmu_s = sum(v for (kind, _), v in RUN_TIMES.items() if kind == "fmu")
     ref_s = sum(v for (kind, _), v in RUN_TIMES.items() if kind == "scipy")
     print(f"\nrun times: {sum(k == 'fmu' for k, _ in RUN_TIMES)} FMU runs {fmu_s:.1f} s, "
