@@ -97,12 +97,12 @@ def test_the_ssp_is_ssp_1_0_with_the_spec_connections():
 # masters holding inputs over a step; they meet the criteria because the subsystem FMUs extrapolate
 # their inputs themselves (`extrapolate_inputs`, docs/DESIGN.md). The extra Gauss-Seidel container
 # hands the later FMUs inputs of the END of the step, which that extrapolation pushes further still:
-# measured 2.83 % of rated fan speed at 1 ms, peak torque -3.03 %. Strict: if it ever passes, the
+# measured 12.28 % of rated fan speed at 1 ms, peak torque -54.0 % (the book's defaults; 2.83 % / -3.03 % with the first set). Strict: if it ever passes, the
 # mark must go.
 SEQUENTIAL_XFAIL = pytest.mark.xfail(
     strict=True,
     reason="Gauss-Seidel container: FMU-side input extrapolation over-extrapolates inputs that are already "
-    "from the end of the step (2.83 % fan speed, -3.03 % peak torque at 1 ms); see docs/DESIGN.md",
+    "from the end of the step (12.28 % fan speed, -54.0 % peak torque at 1 ms with the book's defaults); see docs/DESIGN.md",
 )
 
 
