@@ -491,3 +491,110 @@ impl Model for MotorFan {
 }
 
 fmu_runtime::export_fmu!(MotorFan);
+
+/// The drive train's powers add up (the chapter's eq. 3.3 powers, summed over the elements of
+/// Table 3.1): at any state, the motor's power T_m w_m equals the rates of the stored energies
+/// (motor inertia J_m a_m w_m, shaft spring K theta theta', fan inertia J_fan a_fan w_fan) plus
+/// the dissipated powers (shaft damper D theta'^2, the reducer's loss from `Reducer::loss_w`, the
+/// fan's aerodynamic load T_fan w_fan). Each power is taken from its own element, not from the
+/// equations being checked, so a sign slip or a torque left out of one equation shows here.
+#[cfg(test)]
+mod power_balance {
+    use super::*;
+    use fmu_runtime::values::Values;
+    use fmu_runtime::variables::{Slot, VariableTable};
+
+    fn set(table: &VariableTable, values: &mut Values, name: &str, value: f64) {
+        match table.by_name(name).unwrap_or_else(|| panic!("no variable {name}")).slot {
+            Slot::Known(i) => values.known[i] = value,
+            Slot::Integer(i) => values.integers[i] = value as i32,
+            Slot::Boolean(i) => values.booleans[i] = value != 0.0,
+            other => panic!("{name}: not settable here ({other:?})"),
+        }
+    }
+
+    /// A deterministic spread of numbers in [0, 1) (no dependency for a test).
+    fn spread(n: usize) -> impl Iterator<Item = f64> {
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        (0..n).map(move |_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        })
+    }
+
+    /// (source - storage - dissipation, the largest of the terms) at one state. `damper`: whether
+    /// the damper's power is counted (false: the deliberately broken balance).
+    fn balance(model: &MotorFan, values: &Values, states: &[f64], t: f64, damper: bool) -> (f64, f64) {
+        let k = Knowns::new(t, &values.known, states, &values.integers, &values.booleans);
+        let op = model.operate(&k, false);
+        let train = model.train(&k);
+        let n = train.reducer.ratio;
+        let source = op.motor_torque * op.motor_speed;
+        let stored = [op.power_motor_inertia, op.power_shaft_spring, op.power_fan_inertia];
+        let mut dissipated = vec![train.reducer.loss_w(op.shaft_torque, n * op.fan_speed), train.fan.torque_n_m(op.fan_speed) * op.fan_speed];
+        if damper {
+            dissipated.push(train.shaft.damper_power_w(op.twist_rate));
+        }
+        let residual = source - stored.iter().sum::<f64>() - dissipated.iter().sum::<f64>();
+        let scale = std::iter::once(source).chain(stored).chain(dissipated).fold(0.0f64, |m, p| m.max(p.abs()));
+        (residual, scale)
+    }
+
+    /// Random states (speeds forward, as in every start) at levels b and c, each start mode;
+    /// with an elastic shaft the power-flow mode is set to the direction of the power there.
+    #[test]
+    fn the_powers_of_levels_b_and_c_add_up_and_a_missing_damper_shows() {
+        let (model, _, table) = fmu_runtime::model::declare::<MotorFan>();
+        let mut worst = 0.0f64;
+        let mut missing_damper_seen = 0.0f64;
+        let mut r = spread(100_000);
+        let mut next = move || r.next().unwrap();
+        for level in [2.0, 3.0] {
+            for start in [1.0, 2.0, 3.0] {
+                for _ in 0..200 {
+                    let mut values = table.start_values();
+                    set(&table, &mut values, "level", level);
+                    set(&table, &mut values, "start_mode", start);
+                    let mut states = vec![0.0; table.n_states];
+                    let mut state = |name: &str, v: f64| {
+                        let var = table.by_name(name).unwrap();
+                        states[table.state_index(var).unwrap()] = v;
+                    };
+                    let w_m = 320.0 * next();
+                    state("w_motor", w_m);
+                    state("w_fan", w_m / 16.0 * (0.9 + 0.2 * next()));
+                    state("shaft_twist", 10.0 * (next() - 0.5));
+                    state("pi_integral", 0.02 * (next() - 0.5));
+                    state("reference_filtered", 300.0 * next());
+                    state("reference_filtered_rate", 60.0 * (next() - 0.5));
+                    state("actuator_torque", 2000.0 * next());
+                    state("actuator_torque_rate", 1e5 * (next() - 0.5));
+                    let t = 30.0 * next();
+                    // The elastic shaft's power-flow mode: the direction of T_shaft N w_fan here.
+                    let (k_shaft, d_shaft) = (values.known[slot(&table, "K_shaft")], values.known[slot(&table, "D_shaft")]);
+                    let get = |name: &str| states[table.state_index(table.by_name(name).unwrap()).unwrap()];
+                    let torque = k_shaft * get("shaft_twist") + d_shaft * (get("w_motor") - 16.0 * get("w_fan"));
+                    set(&table, &mut values, "reducer_power_flow", if torque * get("w_fan") >= 0.0 { 1.0 } else { -1.0 });
+                    let (residual, scale) = balance(&model, &values, &states, t, true);
+                    worst = worst.max(residual.abs() / scale);
+                    if level == 3.0 {
+                        let (broken, scale) = balance(&model, &values, &states, t, false);
+                        missing_damper_seen = missing_damper_seen.max(broken.abs() / scale);
+                    }
+                }
+            }
+        }
+        println!("1200 states at levels b and c, every start mode: worst residual {worst:.3e} of the largest power; without the damper's power up to {missing_damper_seen:.3e}");
+        assert!(worst <= 1e-12, "the powers do not add up: worst residual {worst:.3e} of the largest power");
+        assert!(missing_damper_seen > 1e-6, "leaving the damper out went unseen ({missing_damper_seen:.3e})");
+    }
+
+    fn slot(table: &VariableTable, name: &str) -> usize {
+        match table.by_name(name).unwrap().slot {
+            Slot::Known(i) => i,
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+}
