@@ -18,6 +18,7 @@ import re
 import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -64,6 +65,27 @@ def unzipdir(key: tuple[str, float]) -> str:
     d = extract(key[0])
     atexit.register(shutil.rmtree, d, ignore_errors=True)
     return d
+
+
+@functools.lru_cache(maxsize=None)
+def simulate_cs(key: tuple[str, float], start_items: tuple, stop_time: float, output_interval: float, outputs: tuple):
+    """(fmpy result, wall-clock seconds) of one Co-Simulation run from t = 0 with these start values
+    (a sorted tuple of (name, value)), simulated once per session and then served from the cache."""
+    from fmpy import simulate_fmu
+
+    t0 = time.perf_counter()
+    res = simulate_fmu(
+        unzipdir(key),
+        validate=False,  # test_validate.py validates every dist/*.fmu
+        model_description=model_description(key),
+        fmi_type="CoSimulation",
+        start_time=0.0,
+        stop_time=stop_time,
+        output_interval=output_interval,
+        start_values=dict(start_items),
+        output=list(outputs),
+    )
+    return res, time.perf_counter() - t0
 
 
 FMUTOOL = Path(sys.executable).with_name("fmutool")

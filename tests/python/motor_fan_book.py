@@ -3,7 +3,8 @@
 Chapter 3, sections 3.1-3.3 (../shared/seed/chapter3.txt) and the book's Modelica package
 ``Chap3_CoolingTowerFan`` (BOOK_FILE) with its Dymola result files. Nothing here is generated from,
 or copied out of, the Modelica file: the values carry over (each one with the component it comes
-from), the physics is written out again in plain numpy/scipy (solve_ivp, brentq).
+from), the physics is written out again in plain numpy/scipy (solve_ivp, brentq); the
+steady-state T-equivalent circuit is motor_fan_reference.t_equivalent, shared with the hand formulas.
 
 Models of the book file reproduced (Figure 3.5 levels and Figures 3.7-3.10, Table 3.3):
   level 1 = a  Steady_State: motor torque table TorqueSpeed, LossyGear, QuadraticSpeedDependentTorque;
@@ -61,6 +62,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
+
+from motor_fan_reference import t_equivalent
 
 BOOK_FILE = (
     "files/Chap3_CoolingTowerFan.mo of github.com/marcbudinger/MultiphysicsModelingTechSys "
@@ -338,13 +341,7 @@ def machine_steady_torque(p: BookParameters, w_m):
     ws = 2.0 * math.pi * p.f_supply
     s = 1.0 - p.pole_pairs * w_m / ws
     s = np.where(np.abs(s) < 1e-15, 1e-15, s)
-    V = p.winding_voltage_rms
-    zm = 1j * ws * p.L_m
-    zr = p.R_r / s + 1j * ws * p.L_r_sigma
-    z = p.R_s + 1j * ws * p.L_s_sigma + zm * zr / (zm + zr)
-    i_s = V / z
-    i_r = i_s * zm / (zm + zr)
-    return 3.0 * np.abs(i_r) ** 2 * (p.R_r / s) * p.pole_pairs / ws
+    return t_equivalent(p, p.winding_voltage_rms, ws, s)[0]
 
 
 # --------------------------------------------------------------------------------------------

@@ -212,11 +212,13 @@ def table_slope(p: MotorFanParams, w_m: float, interpolation: str) -> float:
 # The equivalent circuit
 # --------------------------------------------------------------------------------------------------
 
-def circuit_at_slip(p: MotorFanParams, s) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(torque N.m, stator current rms A, power drawn W) of the T-equivalent circuit at slip(s) s != 0."""
+def t_equivalent(p, V: float, ws: float, s) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(torque N.m, stator current rms A, power drawn W) of the per-winding T-equivalent circuit of
+    any parameter set with R_s, R_r, L_s_sigma, L_r_sigma, L_m, pole_pairs (this module's
+    MotorFanParams, motor_fan_book's BookParameters), at winding voltage V rms, supply angular
+    frequency ws and slip(s) s != 0: Z = R_s + j ws L_s_sigma + (j ws L_m || (R_r/s + j ws L_r_sigma)),
+    T = 3 |I_r|^2 (R_r/s) / (ws/p)."""
     s = np.asarray(s, dtype=float)
-    ws = p.omega_supply
-    V = p.winding_voltage
     z_m = 1j * ws * p.L_m
     z_r = p.R_r / s + 1j * ws * p.L_r_sigma
     z = p.R_s + 1j * ws * p.L_s_sigma + z_m * z_r / (z_m + z_r)
@@ -224,6 +226,11 @@ def circuit_at_slip(p: MotorFanParams, s) -> tuple[np.ndarray, np.ndarray, np.nd
     i_r = i_s * z_m / (z_m + z_r)
     torque = 3.0 * np.abs(i_r) ** 2 * (p.R_r / s) / (ws / p.pole_pairs)
     return torque, np.abs(i_s), 3.0 * np.real(V * np.conj(i_s))
+
+
+def circuit_at_slip(p: MotorFanParams, s) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(torque N.m, stator current rms A, power drawn W) of the T-equivalent circuit at slip(s) s != 0."""
+    return t_equivalent(p, p.winding_voltage, p.omega_supply, s)
 
 
 def circuit_steady_state(p: MotorFanParams, w_m):

@@ -25,17 +25,15 @@ after the step that ends there; at 1e-3 s this shifts nothing measurable here.
 
 from __future__ import annotations
 
-import functools
 import math
-import time
 
 import numpy as np
 import pytest
-from fmpy import read_model_description, simulate_fmu
+from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
 
 import motor_fan_reference as ref
-from conftest import DIST_DIR, fmu_key as _fmu_key, model_description as _model_description, require_fmu, unzipdir as _unzipdir
+from conftest import DIST_DIR, fmu_key as _fmu_key, model_description as _model_description, require_fmu, simulate_cs
 from fmi_host import Slave
 
 STOP_TIME = 30.0
@@ -158,21 +156,8 @@ def params(fmu, **overrides) -> ref.MotorFanParams:
     return ref.MotorFanParams.from_values({**start_values(fmu), **overrides})
 
 
-@functools.lru_cache(maxsize=None)
 def _simulate(key: tuple[str, float], start_items: tuple):
-    t0 = time.perf_counter()
-    res = simulate_fmu(
-        _unzipdir(key),
-        validate=False,  # test_validate.py validates every dist/*.fmu
-        model_description=_model_description(key),
-        fmi_type="CoSimulation",
-        start_time=0.0,
-        stop_time=STOP_TIME,
-        output_interval=OUTPUT_INTERVAL,
-        start_values=dict(start_items),
-        output=list(OUTPUTS),
-    )
-    return res, time.perf_counter() - t0
+    return simulate_cs(key, start_items, STOP_TIME, OUTPUT_INTERVAL, tuple(OUTPUTS))
 
 
 def run(fmu, **start):

@@ -32,10 +32,9 @@ import time
 
 import numpy as np
 import pytest
-from fmpy import simulate_fmu
 
 import motor_fan_book as book
-from conftest import DIST_DIR, fmu_key, model_description, require_fmu, unzipdir
+from conftest import DIST_DIR, fmu_key, model_description, require_fmu, simulate_cs
 
 STOP_TIME = 30.0
 OUTPUT_INTERVAL = 1e-3
@@ -85,21 +84,10 @@ def motor_fan_fmu():
 
 @functools.lru_cache(maxsize=None)
 def _simulate(key: tuple[str, float], start_items: tuple) -> dict:
-    t0 = time.perf_counter()
-    r = simulate_fmu(
-        unzipdir(key),
-        validate=False,  # test_validate.py validates every dist/*.fmu
-        model_description=model_description(key),
-        fmi_type="CoSimulation",
-        start_time=0.0,
-        stop_time=STOP_TIME,
-        output_interval=OUTPUT_INTERVAL,
-        start_values=dict(start_items),
-        output=list(OUTPUTS),
-    )
+    r, seconds = simulate_cs(key, start_items, STOP_TIME, OUTPUT_INTERVAL, tuple(OUTPUTS))
     out = {name: np.asarray(r[name], dtype=float) for name in r.dtype.names}
     out["t"] = out["time"]
-    RUN_TIMES[("fmu", start_items)] = time.perf_counter() - t0
+    RUN_TIMES[("fmu", start_items)] = seconds
     assert len(out["t"]) == len(GRID) and np.allclose(out["t"], GRID, rtol=0.0, atol=1e-9), "fmpy's row times are not the 1 ms grid"
     return out
 
