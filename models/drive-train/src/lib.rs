@@ -9,9 +9,6 @@
 use components::{FanLoad, InductionMachine, Inertia, Interpolation, PiController, Reducer, SecondOrderFilter, SpeedRamp, TorqueSpeedTable, TorsionSpring};
 use fmu_runtime::prelude::*;
 
-/// The book file's name, for the parameters' descriptions.
-pub const BOOK_FILE: &str = "Chap3_CoolingTowerFan.mo";
-
 /// Points of the book's torque-speed table (book file Chap3_CoolingTowerFan.mo, component
 /// TorqueSpeed): speed rad/s, torque N m.
 pub const BOOK_TABLE: [(f64, f64); TABLE_POINTS] =
