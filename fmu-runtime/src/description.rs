@@ -126,26 +126,18 @@ fn unwritten<M: Model>(model: &M, table: &VariableTable, t: f64) -> Vec<String> 
         let mut calculated = vec![sentinel; table.n_calculated];
         let mut derivatives = vec![0.0; table.n_states];
         let evaluated = catch_unwind(AssertUnwindSafe(|| {
-            crate::model::evaluate(model, t, &values.known, &states, &values.integers, &values.booleans, &mut derivatives, &mut calculated)
+            crate::model::evaluate(model, table, t, &values.known, &states, &values.integers, &values.booleans, &mut derivatives, &mut calculated)
         }));
         if evaluated.is_err() {
             continue; // a model that panics here is reported when it runs
         }
+        problems.extend(unreported_powers(model, table, t, &values, &states, &config, &defaults, &problems));
         for (pos, var) in table.variables.iter().enumerate() {
             let Slot::Calculated(i) = var.slot else { continue };
             if calculated[i].to_bits() != sentinel.to_bits() || problems.iter().any(|p: &String| p.contains(&format!("'{}'", var.name))) {
                 continue;
             }
-            let changed: Vec<String> = table
-                .variables
-                .iter()
-                .filter_map(|v| match v.slot {
-                    Slot::Integer(j) if config.integers[j] != defaults.integers[j] => Some(format!("{} = {}", v.name, config.integers[j])),
-                    Slot::Boolean(j) if config.booleans[j] != defaults.booleans[j] => Some(format!("{} = {}", v.name, config.booleans[j])),
-                    _ => None,
-                })
-                .collect();
-            let when = if changed.is_empty() { String::new() } else { format!(" (with {})", changed.join(", ")) };
+            let when = configuration_text(table, &config, &defaults);
             let at = table.declared_at[pos];
             problems.push(format!(
                 "{}:{}: {} '{}' is never written by Model::outputs{when}. Fix: assign out[self.<handle>] = ... for it in outputs(), in every configuration",
@@ -155,6 +147,58 @@ fn unwritten<M: Model>(model: &M, table: &VariableTable, t: f64) -> Vec<String> 
                 var.name
             ));
         }
+    }
+    problems
+}
+
+/// The structural choices of `config` that differ from the defaults, as " (with level = 2)".
+fn configuration_text(table: &VariableTable, config: &Values, defaults: &Values) -> String {
+    let changed: Vec<String> = table
+        .variables
+        .iter()
+        .filter_map(|v| match v.slot {
+            Slot::Integer(j) if config.integers[j] != defaults.integers[j] => Some(format!("{} = {}", v.name, config.integers[j])),
+            Slot::Boolean(j) if config.booleans[j] != defaults.booleans[j] => Some(format!("{} = {}", v.name, config.booleans[j])),
+            _ => None,
+        })
+        .collect();
+    if changed.is_empty() {
+        String::new()
+    } else {
+        format!(" (with {})", changed.join(", "))
+    }
+}
+
+/// The declared elements whose power `Model::derivatives` does not report (`der.power`) at
+/// one point of a configuration: their activity would stay 0 and the energy balance would
+/// leave them out. `known` lists problems already found (one per element is enough).
+#[allow(clippy::too_many_arguments)]
+fn unreported_powers<M: Model>(model: &M, table: &VariableTable, t: f64, values: &Values, states: &[f64], config: &Values, defaults: &Values, known: &[String]) -> Vec<String> {
+    if table.elements.is_empty() {
+        return Vec::new();
+    }
+    let (mut rates, mut powers) = (vec![0.0; table.n_states], vec![0.0; table.elements.len()]);
+    let run = catch_unwind(AssertUnwindSafe(|| {
+        crate::model::evaluate_powers(model, t, &values.known, states, &values.integers, &values.booleans, &mut rates, &mut powers)
+    }));
+    if run.is_err() {
+        return Vec::new();
+    }
+    let mut problems = Vec::new();
+    for (e, p) in table.elements.iter().zip(&powers) {
+        let Some(s) = e.activity_state else { continue };
+        let tag = format!("element '{}'", e.name);
+        if !p.is_nan() || known.iter().any(|k| k.contains(&tag)) {
+            continue;
+        }
+        let at = table.declared_at[table.state_value_reference[s] as usize];
+        problems.push(format!(
+            "{}:{}: {tag} has no power reported by Model::derivatives{}. Fix: call der.power(self.<element>, p) for it in derivatives(), \
+             in every configuration (p = 0 where the configuration leaves it out)",
+            at.file(),
+            at.line(),
+            configuration_text(table, config, defaults)
+        ));
     }
     problems
 }
@@ -260,7 +304,7 @@ fn evaluate<M: Model>(model: &M, table: &VariableTable, t: f64, values: &Values,
         if initial {
             crate::model::initialize_states(model, table, t, &values.known, &values.integers, &values.booleans, &mut p.states).ok()?;
         }
-        crate::model::evaluate(model, t, &values.known, &p.states, &values.integers, &values.booleans, &mut p.derivatives, &mut p.calculated);
+        crate::model::evaluate(model, table, t, &values.known, &p.states, &values.integers, &values.booleans, &mut p.derivatives, &mut p.calculated);
         Some(())
     }))
     .ok()??;

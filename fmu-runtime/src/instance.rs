@@ -189,6 +189,8 @@ struct Buffers {
     /// A mode update's trial modes and states.
     trial_modes: Vec<i32>,
     trial_states: Vec<f64>,
+    /// The derivatives and element powers of the energy balance, at each output refresh.
+    balance: Vec<f64>,
 }
 
 impl<M: Model> Instance<M> {
@@ -229,6 +231,7 @@ impl<M: Model> Instance<M> {
         inst.input_slopes = vec![0.0; inst.table.n_known];
         inst.input_curvatures = vec![0.0; inst.table.n_known];
         inst.buffers.slopes = vec![0.0; inst.table.n_known];
+        inst.buffers.balance = vec![0.0; inst.table.n_states + inst.table.elements.len()];
         inst.has_inputs = inst.table.variables.iter().any(|v| v.causality == crate::variables::Causality::Input);
         inst.has_modes = inst.table.variables.iter().any(|v| v.is_mode());
         // A model whose initial states fail at the defaults says so at initialization.
@@ -285,7 +288,7 @@ impl<M: Model> Instance<M> {
         }
         let v = &mut self.values;
         if need.calculated && !self.fresh.calculated {
-            crate::model::evaluate_outputs(&*self.model, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.calculated);
+            crate::model::evaluate_outputs(&*self.model, &self.table, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.calculated, &mut self.buffers.balance);
             self.fresh.calculated = true;
         }
         if need.derivatives && !self.fresh.derivatives {
@@ -824,7 +827,7 @@ impl<M: Model> Instance<M> {
                 .map(|i| v.known[i] + sign * h * self.input_slopes[i] + 0.5 * h * h * self.input_curvatures[i])
                 .collect();
             let (mut der, mut calc) = (v.derivatives.clone(), v.calculated.clone());
-            evaluate(&*self.model, self.time + sign * h, &k, &x, &v.integers, &v.booleans, &mut der, &mut calc);
+            evaluate(&*self.model, &self.table, self.time + sign * h, &k, &x, &v.integers, &v.booleans, &mut der, &mut calc);
             calc
         };
         let (plus, minus) = (at(1.0), at(-1.0));
@@ -985,12 +988,12 @@ impl<M: Model> Instance<M> {
         // unknown the first estimate that agrees with the next finer one (to 1e-4: far above
         // rounding, far below the jump of a straddled kink) is kept, so a kink near the point
         // (an activity's |power|) is not straddled, while smooth equations keep the first
-        // step's small rounding error; if none agree, the first estimate stands. Agreement is
-        // judged against the largest of the five estimates: where the first step straddles a
-        // kink and the function is flat on the near side (MotorFan's rigid reducer 6e-6 rad/s
-        // after standstill, whose efficiency switches with the sign of the speed), the finer
-        // estimates are rounding noise around zero, which never agree with each other by their
-        // own size; by the jump's they do.
+        // step's small rounding error. Agreement is judged against the largest of the five
+        // estimates: where the first step straddles a kink and the function is flat on the
+        // near side (MotorFan's rigid reducer 6e-6 rad/s after standstill, whose efficiency
+        // switches with the sign of the speed), the finer estimates are rounding noise around
+        // zero, which never agree with each other by their own size; by the jump's they do.
+        // If none agree, the first estimate stands.
         let h0 = (0..slots.len())
             .filter(|j| dv_known[*j] != 0.0)
             .map(|j| 1e-7 * value(j).abs().max(slots[j].2) / dv_known[j].abs())
@@ -1010,7 +1013,7 @@ impl<M: Model> Instance<M> {
                     // A failure leaves NaN in the calculated states, and so in the derivative.
                     let _ = crate::model::initialize_states(&*self.model, &self.table, self.time, &k, &v.integers, &v.booleans, &mut x);
                 }
-                evaluate(&*self.model, self.time, &k, &x, &v.integers, &v.booleans, &mut der, &mut calc);
+                evaluate(&*self.model, &self.table, self.time, &k, &x, &v.integers, &v.booleans, &mut der, &mut calc);
                 (der, calc, x)
             };
             let ((der_plus, calc_plus, x_plus), (der_minus, calc_minus, x_minus)) = (at(1.0), at(-1.0));

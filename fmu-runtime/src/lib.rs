@@ -41,6 +41,7 @@
 //! ```
 pub mod description;
 pub mod documentation;
+pub mod elements;
 pub mod fmi2;
 pub mod instance;
 pub mod integrate;
@@ -60,6 +61,7 @@ pub use model::{DefaultExperiment, Model, ModelInfo, Solver};
 
 /// Everything a model crate needs, in one import.
 pub mod prelude {
+    pub use crate::elements::{Domain, Effect, Element, Kind};
     pub use crate::model::{DefaultExperiment, Model, ModelInfo, Solver};
     pub use crate::values::{Derivatives, EventIndicators, InitialStates, Knowns, ModeUpdate, Outputs};
     pub use crate::variables::{BooleanParameter, Declarations, Indicator, Input, IntegerParameter, Local, Mode, Output, Parameter, State};

@@ -2,7 +2,7 @@
 //! outputs — with no FMI, no XML and no unsafe code. The runtime derives the rest.
 
 use crate::values::{Derivatives, EventIndicators, InitialStates, Knowns, ModeUpdate, Outputs};
-use crate::variables::Declarations;
+use crate::variables::{Declarations, VariableTable};
 
 /// How `fmi2DoStep` integrates the model's ODE (see `integrate.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -114,10 +114,12 @@ pub trait Model: Sized + Send + Sync + 'static {
 }
 
 /// Evaluates a model's equations at one point: the derivatives and the calculated values
-/// (outputs, locals, calculated parameters), written into `derivatives` and `calculated`.
+/// (outputs, locals, calculated parameters, the runtime's activity, share and balance outputs),
+/// written into `derivatives` and `calculated`.
 #[allow(clippy::too_many_arguments)]
 pub fn evaluate<M: Model>(
     model: &M,
+    table: &VariableTable,
     time: f64,
     known: &[f64],
     states: &[f64],
@@ -127,7 +129,7 @@ pub fn evaluate<M: Model>(
     calculated: &mut [f64],
 ) {
     evaluate_derivatives(model, time, known, states, integers, booleans, derivatives);
-    evaluate_outputs(model, time, known, states, integers, booleans, calculated);
+    evaluate_outputs(model, table, time, known, states, integers, booleans, calculated, &mut Vec::new());
 }
 
 /// The derivatives alone (see [`evaluate`]).
@@ -136,9 +138,38 @@ pub fn evaluate_derivatives<M: Model>(model: &M, time: f64, known: &[f64], state
     model.derivatives(&Knowns::new(time, known, states, integers, booleans), &mut Derivatives::new(derivatives));
 }
 
-/// The calculated values alone: outputs, locals, calculated parameters (see [`evaluate`]).
-pub fn evaluate_outputs<M: Model>(model: &M, time: f64, known: &[f64], states: &[f64], integers: &[i32], booleans: &[bool], calculated: &mut [f64]) {
+/// The derivatives with each declared element's reported power (`der.power`) recorded in
+/// `powers` (one per element of `table.elements`; NaN where the model reported none).
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate_powers<M: Model>(model: &M, time: f64, known: &[f64], states: &[f64], integers: &[i32], booleans: &[bool], derivatives: &mut [f64], powers: &mut [f64]) {
+    derivatives.fill(0.0);
+    powers.fill(f64::NAN);
+    model.derivatives(&Knowns::new(time, known, states, integers, booleans), &mut Derivatives::with_powers(derivatives, powers));
+}
+
+/// The calculated values alone: outputs, locals, calculated parameters, and the runtime's
+/// activity, share and energy-balance outputs (see [`crate::elements`]); `work` is scratch
+/// space for the balance's evaluation of the derivatives (it grows once, then is reused).
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate_outputs<M: Model>(
+    model: &M,
+    table: &VariableTable,
+    time: f64,
+    known: &[f64],
+    states: &[f64],
+    integers: &[i32],
+    booleans: &[bool],
+    calculated: &mut [f64],
+    work: &mut Vec<f64>,
+) {
     model.outputs(&Knowns::new(time, known, states, integers, booleans), &mut Outputs::new(calculated));
+    if table.elements.is_empty() {
+        return;
+    }
+    work.resize(table.n_states + table.elements.len(), 0.0);
+    let (rates, powers) = work.split_at_mut(table.n_states);
+    evaluate_powers(model, time, known, states, integers, booleans, rates, powers);
+    crate::elements::write_outputs(&table.elements, table.balance, states, powers, calculated);
 }
 
 /// Fills in the calculated states of `states` (which holds the start values of the others)
@@ -197,6 +228,7 @@ pub fn declare<M: Model>() -> (M, RuntimeVariables, crate::variables::VariableTa
              inside fmi2DoStep, in Model Exchange each event iteration in which a discrete mode or a state changed",
         )
     });
+    d.declare_power_balance();
     (model, RuntimeVariables { extrapolate_inputs, state_events }, d.into_table())
 }
 
@@ -218,7 +250,7 @@ fn first_non_finite<M: Model>(model: &M, table: &crate::variables::VariableTable
         };
         let mut derivatives = vec![0.0; table.n_states];
         let mut calculated = values.calculated.clone();
-        evaluate(model, time, &values.known, &states, &values.integers, &values.booleans, &mut derivatives, &mut calculated);
+        evaluate(model, table, time, &values.known, &states, &values.integers, &values.booleans, &mut derivatives, &mut calculated);
         let mut z = vec![0.0; table.indicators.len()];
         let k = Knowns::new(time, &values.known, &states, &values.integers, &values.booleans);
         model.event_indicators(&k, &mut crate::values::EventIndicators::new(&mut z));

@@ -7,6 +7,7 @@
 
 use std::ops::{Index, IndexMut};
 
+use crate::elements::Element;
 use crate::variables::{BooleanParameter, Indicator, Input, IntegerParameter, Local, Mode, Output, Parameter, State};
 
 /// The stores of one instance, each indexed by the slot the declaration gave.
@@ -115,14 +116,35 @@ impl IndexMut<Local> for Outputs<'_> {
     }
 }
 
-/// Where `Model::derivatives` writes dx/dt, one entry per state.
+/// Where `Model::derivatives` writes dx/dt, one entry per state, and each declared element's
+/// power (`der.power(element, p)`, see [`crate::elements`]).
 pub struct Derivatives<'a> {
     pub(crate) rates: &'a mut [f64],
+    pub(crate) powers: Option<&'a mut [f64]>,
 }
 
 impl<'a> Derivatives<'a> {
     pub fn new(rates: &'a mut [f64]) -> Self {
-        Derivatives { rates }
+        Derivatives { rates, powers: None }
+    }
+
+    /// Also records each element's power in `powers`, by element.
+    pub fn with_powers(rates: &'a mut [f64], powers: &'a mut [f64]) -> Self {
+        Derivatives { rates, powers: Some(powers) }
+    }
+
+    /// Reports the power of a declared element, in W: what a source delivers, the rate dE/dt
+    /// of what a storage element stores, what a dissipative element takes out (chapter eq.
+    /// 3.3). The runtime integrates its absolute value into the element's activity and sums
+    /// the powers into the energy balance. Report every element at every point, 0 where the
+    /// configuration leaves it out.
+    pub fn power(&mut self, element: Element, power_w: f64) {
+        if let Some(s) = element.activity {
+            self.rates[s] = power_w.abs();
+        }
+        if let Some(p) = self.powers.as_deref_mut() {
+            p[element.index] = power_w;
+        }
     }
 }
 

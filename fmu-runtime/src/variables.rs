@@ -283,6 +283,10 @@ pub struct VariableTable {
     pub indicators: Vec<(String, String)>,
     /// Where each variable was declared (the model's source file and line), by value reference.
     pub declared_at: Vec<&'static Location<'static>>,
+    /// The model's elements (Table 3.1) with their activity variables, in declaration order.
+    pub elements: Vec<crate::elements::ElementInfo>,
+    /// The energy balance outputs, for a model with elements whose powers it sums.
+    pub balance: Option<crate::elements::BalanceOutputs>,
     /// What is wrong with the declarations, one message per problem: "file:line: the rule
     /// broken. Fix: what to do". A model with problems is not exported (build-fmus prints them).
     pub problems: Vec<String>,
@@ -602,6 +606,50 @@ impl Declarations {
         ModeBuilder { decl: self, pos, handle: Mode(i) }
     }
 
+    /// An element of the model (Table 3.1): its name (the suffix of the variables the runtime
+    /// declares for it), the component or subset it belongs to ("Driveshaft") and its effect,
+    /// usually the component's own constant (`TorsionSpring::STIFFNESS`). A source, storage or
+    /// dissipative element gets its activity state `A_<name>` and output `activity_<name>`, a
+    /// storage or dissipative one also `share_<name>` (see [`crate::elements`]); its equations
+    /// report its power with `der.power(element, p)`.
+    #[track_caller]
+    pub fn element(&mut self, name: &str, component: &str, effect: crate::elements::Effect) -> ElementBuilder<'_> {
+        ElementBuilder { decl: self, name: name.to_string(), component: component.to_string(), effect, nominal: None }
+    }
+
+    /// An effect Table 3.1 lists for a component but the model leaves out, with the reason
+    /// ("negligible beside the motor inertia, Figure 3.4"): documented, no variables.
+    #[track_caller]
+    pub fn neglected(&mut self, component: &str, effect: crate::elements::Effect, reason: &str) {
+        if reason.trim().is_empty() {
+            self.problem(Location::caller(), format!("the neglected {} of '{component}' gives no reason. Fix: say why it is left out", effect.what));
+        }
+        self.table.elements.push(crate::elements::ElementInfo {
+            name: String::new(),
+            component: component.to_string(),
+            effect,
+            description: String::new(),
+            neglected: Some(reason.to_string()),
+            activity_state: None,
+            activity_output: None,
+            share_output: None,
+        });
+    }
+
+    /// Declares the balance outputs, once the model's elements are known (by `model::declare`).
+    pub(crate) fn declare_power_balance(&mut self) {
+        if !self.table.elements.iter().any(|e| e.neglected.is_none() && e.effect.in_balance()) {
+            return;
+        }
+        let residual = self
+            .output("power_balance_residual", "W")
+            .describe("Energy balance of the elements (Table 3.1): source powers - rates of stored energy - dissipated powers; 0 up to rounding");
+        let relative = self
+            .output("power_balance_relative", "1")
+            .describe("power_balance_residual over the largest element power at the same instant (0 while every power is 0)");
+        self.table.balance = Some(crate::elements::BalanceOutputs { residual: residual.0, relative: relative.0 });
+    }
+
     /// An event indicator (not an FMI variable: FMI 2.0 only counts them). The name appears in
     /// the log messages of the events it triggers.
     #[track_caller]
@@ -611,6 +659,68 @@ impl Declarations {
         }
         self.table.indicators.push((name.to_string(), description.to_string()));
         Indicator(self.table.indicators.len() - 1)
+    }
+}
+
+/// The nominal of an activity state unless the element gives one, J. An activity starts at 0
+/// and grows; its shares are ratios of activities, so a directional derivative stepping an
+/// activity by 1e-7 of a 1 J nominal straddles the shares' curvature while the activities are
+/// still small (ShaftLine at 0.05 s: 2e-6 of their scale); 1 mJ keeps it below 1e-8 there.
+pub const ACTIVITY_NOMINAL_J: f64 = 1e-3;
+
+/// Finishes an element's declaration: the nominal magnitude of its activity, then `describe`.
+pub struct ElementBuilder<'a> {
+    decl: &'a mut Declarations,
+    name: String,
+    component: String,
+    effect: crate::elements::Effect,
+    nominal: Option<f64>,
+}
+
+impl ElementBuilder<'_> {
+    /// Typical magnitude of the activity state in J (scales its absolute tolerance and the step
+    /// of its directional derivatives); [`ACTIVITY_NOMINAL_J`] unless given.
+    pub fn nominal(mut self, nominal_j: f64) -> Self {
+        self.nominal = Some(nominal_j);
+        self
+    }
+
+    /// Finishes the declaration with what the element is, as a phrase that reads after "the
+    /// activity of" ("the driveshaft stiffness K_shaft, power K theta dtheta/dt"), and declares
+    /// its variables.
+    #[track_caller]
+    pub fn describe(self, description: &str) -> crate::elements::Element {
+        let ElementBuilder { decl, name, component, effect, nominal } = self;
+        let index = decl.table.elements.len();
+        let (mut activity_state, mut activity_output, mut share_output) = (None, None, None);
+        if effect.kind.has_activity() {
+            let state = decl.state(&format!("A_{name}"), 0.0, "J").nominal(nominal.unwrap_or(ACTIVITY_NOMINAL_J));
+            activity_state = Some(state.describe(&format!("Activity of {description} (eq. 3.3): integral of |power| dt since the start")).state);
+            activity_output =
+                Some(decl.output(&format!("activity_{name}"), "J").describe(&format!("Activity of {description}, integral of |power| dt (eq. 3.3)")).0);
+            if effect.kind != crate::elements::Kind::Source {
+                let among = if effect.kind.is_storage() { "storage" } else { "dissipative" };
+                share_output = Some(
+                    decl.output(&format!("share_{name}"), "%")
+                        .describe(&format!("Share of {description} in the total activity of the {among} elements (Table 3.3)"))
+                        .0,
+                );
+            }
+        }
+        if description.trim().is_empty() {
+            decl.problem(Location::caller(), format!("element '{name}' has no description. Fix: say what it is, with its law"));
+        }
+        decl.table.elements.push(crate::elements::ElementInfo {
+            name,
+            component,
+            effect,
+            description: description.to_string(),
+            neglected: None,
+            activity_state,
+            activity_output,
+            share_output,
+        });
+        crate::elements::Element { index, activity: activity_state }
     }
 }
 

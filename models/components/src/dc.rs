@@ -8,6 +8,8 @@
 //!
 //! Armature circuit (a separately excited machine at constant field): U = R I + L dI/dt + k w.
 
+use fmu_runtime::elements::{Domain, Effect, Kind};
+
 /// A separately excited DC machine at constant field: armature resistance R, inductance L and
 /// machine constant k (eq. 3.9).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -19,6 +21,14 @@ pub struct DcMachine {
 }
 
 impl DcMachine {
+    /// Its effects (Table 3.1): the electromechanical transformer of eq. 3.9 (lossless) ...
+    pub const TRANSFORMER: Effect =
+        Effect { domains: &[Domain::Electrical, Domain::Rotational], kind: Kind::Transformer, what: "electromechanical transformer (eq. 3.9)" };
+    /// ... the armature's resistance ...
+    pub const RESISTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Dissipation, what: "armature resistance" };
+    /// ... and its inductance.
+    pub const INDUCTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::StorageI, what: "armature inductance" };
+
     /// The machine constant that makes the machine deliver `rated_torque` at `rated_speed` from
     /// `rated_voltage` in steady state: U = R I + k w and T = k I give k^2 w - U k + R T = 0, whose
     /// larger root is the machine (the smaller one would draw almost the short-circuit current

@@ -2,6 +2,8 @@
 //! dissipates, an inductor stores magnetic energy (current is its state), a capacitor stores
 //! electric energy (voltage is its state).
 
+use fmu_runtime::elements::{Domain, Effect, Kind};
+
 /// A linear resistor: u = R i (dissipation).
 /// ```
 /// use components::Resistor;
@@ -16,6 +18,9 @@ pub struct Resistor {
 }
 
 impl Resistor {
+    /// Its effect (Table 3.1): an electrical dissipation.
+    pub const RESISTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Dissipation, what: "resistance" };
+
     /// Voltage drop across the resistor, V.
     pub fn voltage_v(&self, current_a: f64) -> f64 {
         self.resistance_ohm * current_a
@@ -47,12 +52,20 @@ pub struct Inductor {
 }
 
 impl Inductor {
+    /// Its effect (Table 3.1): inductive storage, the current its state.
+    pub const INDUCTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::StorageI, what: "inductance" };
+
     /// di/dt under a voltage across the inductor, A/s.
     pub fn current_rate_a_per_s(&self, voltage_v: f64) -> f64 {
         voltage_v / self.inductance_h
     }
 
     /// Stored energy L i^2 / 2, J.
+    /// Power stored per second, L i di/dt, W.
+    pub fn power_w(&self, current_a: f64, current_rate_a_per_s: f64) -> f64 {
+        self.inductance_h * current_a * current_rate_a_per_s
+    }
+
     pub fn energy_j(&self, current_a: f64) -> f64 {
         0.5 * self.inductance_h * current_a * current_a
     }
@@ -76,12 +89,20 @@ pub struct Capacitor {
 }
 
 impl Capacitor {
+    /// Its effect (Table 3.1): capacitive storage, the voltage its state.
+    pub const CAPACITANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::StorageC, what: "capacitance" };
+
     /// du/dt under a current into the capacitor, V/s.
     pub fn voltage_rate_v_per_s(&self, current_a: f64) -> f64 {
         current_a / self.capacitance_f
     }
 
     /// Stored energy C u^2 / 2, J.
+    /// Power stored per second, C u du/dt, W.
+    pub fn power_w(&self, voltage_v: f64, voltage_rate_v_per_s: f64) -> f64 {
+        self.capacitance_f * voltage_v * voltage_rate_v_per_s
+    }
+
     pub fn energy_j(&self, voltage_v: f64) -> f64 {
         0.5 * self.capacitance_f * voltage_v * voltage_v
     }

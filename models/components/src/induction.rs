@@ -6,6 +6,7 @@
 //!   state is exactly the equivalent circuit's.
 
 use crate::complex::Complex;
+use fmu_runtime::elements::{Domain, Effect, Kind};
 use crate::roots::bisect;
 use std::f64::consts::{PI, SQRT_2};
 
@@ -63,9 +64,24 @@ pub struct DqResponse {
     pub torque_n_m: f64,
     pub stator_current_rms_a: f64,
     pub electrical_power_w: f64,
+    /// Power the stator and rotor resistances dissipate, 3/2 (R_s |i_s|^2 + R_r |i_r|^2), W.
+    pub winding_loss_w: f64,
+    /// Rate of the magnetic energy of the windings, 3/2 (i_s . dpsi_s/dt + i_r . dpsi_r/dt), W:
+    /// the electrical power minus the losses minus the mechanical power T w.
+    pub magnetic_power_w: f64,
 }
 
 impl InductionMachine {
+    /// Its effects (Table 3.1, the motor's row): the electromechanical transformer (lossless) ...
+    pub const TRANSFORMER: Effect =
+        Effect { domains: &[Domain::Electrical, Domain::Rotational], kind: Kind::Transformer, what: "electromechanical transformer" };
+    /// ... the winding inductances (the magnetic energy of the stator and rotor fluxes) ...
+    pub const WINDING_INDUCTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::StorageI, what: "winding inductance" };
+    /// ... and the winding resistances (stator and rotor).
+    pub const WINDING_RESISTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Dissipation, what: "winding resistance" };
+    /// The grid's voltage source that feeds it.
+    pub const SUPPLY: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Source, what: "voltage source" };
+
     /// Electrical angular frequency of the supply, rad/s.
     pub fn supply_angular_frequency(&self) -> f64 {
         2.0 * PI * self.frequency_hz
@@ -173,16 +189,19 @@ impl InductionMachine {
         let w_s = self.supply_angular_frequency();
         let w_slip = w_s - self.pole_pairs * speed_rad_per_s;
         let v_sd = SQRT_2 * self.phase_voltage_rms_v();
+        let rates = Fluxes {
+            stator_d: v_sd - self.stator_resistance_ohm * i_sd + w_s * psi.stator_q,
+            stator_q: -self.stator_resistance_ohm * i_sq - w_s * psi.stator_d,
+            rotor_d: -self.rotor_resistance_ohm * i_rd + w_slip * psi.rotor_q,
+            rotor_q: -self.rotor_resistance_ohm * i_rq - w_slip * psi.rotor_d,
+        };
         DqResponse {
-            flux_rates: Fluxes {
-                stator_d: v_sd - self.stator_resistance_ohm * i_sd + w_s * psi.stator_q,
-                stator_q: -self.stator_resistance_ohm * i_sq - w_s * psi.stator_d,
-                rotor_d: -self.rotor_resistance_ohm * i_rd + w_slip * psi.rotor_q,
-                rotor_q: -self.rotor_resistance_ohm * i_rq - w_slip * psi.rotor_d,
-            },
+            flux_rates: rates,
             torque_n_m: 1.5 * self.pole_pairs * (psi.stator_d * i_sq - psi.stator_q * i_sd),
             stator_current_rms_a: i_sd.hypot(i_sq) / SQRT_2,
             electrical_power_w: 1.5 * v_sd * i_sd,
+            winding_loss_w: 1.5 * (self.stator_resistance_ohm * (i_sd * i_sd + i_sq * i_sq) + self.rotor_resistance_ohm * (i_rd * i_rd + i_rq * i_rq)),
+            magnetic_power_w: 1.5 * (i_sd * rates.stator_d + i_sq * rates.stator_q + i_rd * rates.rotor_d + i_rq * rates.rotor_q),
         }
     }
 }
@@ -190,6 +209,22 @@ impl InductionMachine {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The dq model conserves energy: the supply's power is the winding losses plus the rate of
+    /// the magnetic energy plus the mechanical power T w, at any fluxes and speed (the powers
+    /// each from its own formula; eq. 3.3's powers of Table 3.1's motor row).
+    #[test]
+    fn the_dq_powers_add_up() {
+        let m = machine();
+        for (i, w) in [0.0, 40.0, 150.0, 157.0, 170.0].into_iter().enumerate() {
+            let f = i as f64;
+            let psi = Fluxes { stator_d: 0.3 + 0.1 * f, stator_q: -0.9 + 0.2 * f, rotor_d: 0.25 - 0.05 * f, rotor_q: -0.8 + 0.15 * f };
+            let r = m.dq_response(psi, w);
+            let residual = r.electrical_power_w - r.winding_loss_w - r.magnetic_power_w - r.torque_n_m * w;
+            let scale = [r.electrical_power_w, r.winding_loss_w, r.magnetic_power_w, r.torque_n_m * w].iter().fold(0.0f64, |a, p| a.max(p.abs()));
+            assert!(residual.abs() <= 1e-12 * scale, "w = {w}: residual {residual} of {scale}");
+        }
+    }
 
     /// The 160 kW, 400 V, 4-pole machine of the MotorFan model.
     pub fn machine() -> InductionMachine {

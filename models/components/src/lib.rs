@@ -46,7 +46,7 @@ pub use dc::{Chopper, DcMachine};
 pub use electrical::{Capacitor, Inductor, Resistor};
 pub use induction::{Fluxes, InductionMachine};
 pub use magnetic::{Reluctance, RlWinding, ToothFaces, ToothedAirGap, Winding, MU_0_H_PER_M};
-pub use mechanical::{CableDrum, CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring};
+pub use mechanical::{SHAFT_PORT, CableDrum, CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring};
 pub use sources::{Ramp, SineVoltage};
 pub use table::{Interpolation, TorqueSpeedTable};
 pub use thermal::{ThermalConductance, ThermalNode};

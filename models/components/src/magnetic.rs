@@ -8,6 +8,7 @@
 //! dissipating it: the power flowing into a magnetic element is mmf x d(flux)/dt, not mmf x flux.
 //! A winding (the transformer T of Figure 3.26) couples the electric and magnetic ports.
 
+use fmu_runtime::elements::{Domain, Effect, Kind};
 use std::f64::consts::PI;
 
 use crate::electrical::{Inductor, Resistor};
@@ -32,6 +33,9 @@ pub struct Reluctance {
 }
 
 impl Reluctance {
+    /// Its effect (Table 3.1, question 2): magnetic storage, mmf = reluctance x flux.
+    pub const RELUCTANCE: Effect = Effect { domains: &[Domain::Magnetic], kind: Kind::StorageC, what: "reluctance" };
+
     /// A flux tube of uniform section: R = length / (mu0 mu_r area) (question 2).
     pub fn uniform(length_m: f64, area_m2: f64, relative_permeability: f64) -> Self {
         Reluctance { reluctance_per_h: length_m / (MU_0_H_PER_M * relative_permeability * area_m2) }
@@ -125,6 +129,9 @@ pub struct Winding {
 }
 
 impl Winding {
+    /// Its effect (Figure 3.26's T): a lossless transformer between the electric and magnetic ports.
+    pub const TRANSFORMER: Effect = Effect { domains: &[Domain::Electrical, Domain::Magnetic], kind: Kind::Transformer, what: "winding" };
+
     /// Ampere's circuital law: the mmf of the winding carrying a current, A.
     pub fn mmf_a(&self, current_a: f64) -> f64 {
         self.turns * current_a

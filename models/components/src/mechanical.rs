@@ -1,6 +1,12 @@
 //! Rotational mechanics (chapter sections 3.2-3.3, Figures 3.4 and 3.5): effort = torque (N m),
 //! flow = angular speed (rad/s).
 
+use fmu_runtime::elements::{Domain, Effect, Kind};
+
+/// The effect of a shaft end where a subsystem FMU meets the FMU it is coupled to: the power
+/// that crosses it, T w, counts as a source of the subsystem (negative where power leaves it).
+pub const SHAFT_PORT: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Source, what: "coupling port (power from the connected FMU)" };
+
 /// A rigid rotating body: J dw/dt = net torque (inertial storage, eq. 3.1).
 /// ```
 /// use components::Inertia;
@@ -15,6 +21,9 @@ pub struct Inertia {
 }
 
 impl Inertia {
+    /// Its effect (Table 3.1): inertial storage in rotation.
+    pub const INERTIA: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::StorageI, what: "inertia" };
+
     /// dw/dt under a net torque, rad/s2.
     pub fn acceleration_rad_per_s2(&self, net_torque_n_m: f64) -> f64 {
         net_torque_n_m / self.inertia_kg_m2
@@ -48,6 +57,11 @@ pub struct TorsionSpring {
 }
 
 impl TorsionSpring {
+    /// Its effects (Table 3.1): the shaft's stiffness (capacitive storage) ...
+    pub const STIFFNESS: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::StorageC, what: "shaft stiffness" };
+    /// ... and its internal damping (dissipation).
+    pub const DAMPING: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "internal damping" };
+
     /// Transmitted torque at a twist and twist rate, N m.
     pub fn torque_n_m(&self, twist_rad: f64, twist_rate_rad_per_s: f64) -> f64 {
         self.stiffness_n_m_per_rad * twist_rad + self.damping_n_m_s_per_rad * twist_rate_rad_per_s
@@ -88,6 +102,9 @@ pub struct TorsionBar {
 }
 
 impl TorsionBar {
+    /// Its effect (Table 3.1): capacitive storage in rotation (massless).
+    pub const STIFFNESS: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::StorageC, what: "torsion bar stiffness" };
+
     /// Stiffness of a round bar of a shear modulus, diameter and length: K = G pi d^4 / (32 l)
     /// (polar moment of area pi d^4 / 32), N m/rad.
     pub fn round_bar_stiffness_n_m_per_rad(shear_modulus_pa: f64, diameter_m: f64, length_m: f64) -> f64 {
@@ -121,6 +138,10 @@ pub struct CableDrum {
 }
 
 impl CableDrum {
+    /// Its effect (Table 3.1): a lossless transformer between rotation and translation.
+    pub const TRANSFORMER: Effect =
+        Effect { domains: &[Domain::Rotational, Domain::Translational], kind: Kind::Transformer, what: "drum radius (rotation to translation)" };
+
     /// Cable (cabin) speed for a drum speed, m/s.
     pub fn cable_speed_m_per_s(&self, drum_speed_rad_per_s: f64) -> f64 {
         self.radius_m * drum_speed_rad_per_s
@@ -155,6 +176,11 @@ pub struct Reducer {
 }
 
 impl Reducer {
+    /// Its effects (Table 3.1): the reduction ratio (a lossless transformer) ...
+    pub const RATIO: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Transformer, what: "reduction ratio" };
+    /// ... and its efficiency (the loss, a dissipation; see [`loss_flowing_w`](Self::loss_flowing_w)).
+    pub const EFFICIENCY: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "reducer efficiency" };
+
     /// Low-side speed for a high-side speed, rad/s.
     pub fn low_speed(&self, high_speed_rad_per_s: f64) -> f64 {
         high_speed_rad_per_s / self.ratio
@@ -222,6 +248,15 @@ impl Reducer {
         let p_low = self.low_side_torque_n_m(high_torque_n_m, high_speed_rad_per_s) * self.low_speed(high_speed_rad_per_s);
         (p_high - p_low).abs()
     }
+
+    /// Power lost in the gears with the direction of the power given (as in
+    /// [`low_side_torque_flowing_n_m`](Self::low_side_torque_flowing_n_m)), W: the high side's
+    /// power minus the low side's. Never negative while `forward` agrees with the sign of the
+    /// power; a model holding the direction as a mode reports this one, which is what its
+    /// equations transmit.
+    pub fn loss_flowing_w(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64, forward: bool) -> f64 {
+        high_torque_n_m * high_speed_rad_per_s - self.low_side_torque_flowing_n_m(high_torque_n_m, forward) * self.low_speed(high_speed_rad_per_s)
+    }
 }
 
 /// Aerodynamic torque of fan blades, T = k w |w| (opposes the rotation; Table 3.1).
@@ -237,6 +272,10 @@ pub struct FanLoad {
 }
 
 impl FanLoad {
+    /// Its effect (Table 3.1: "source of aerodynamic forces (function of rotational speed)"):
+    /// it takes the power T w out of the drive, a dissipation.
+    pub const LOAD: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "aerodynamic load" };
+
     /// The load that absorbs `nominal_torque_n_m` at `nominal_speed_rad_per_s`: k = T_n / w_n^2.
     /// ```
     /// use components::FanLoad;
@@ -284,6 +323,9 @@ pub struct CoulombFriction {
 }
 
 impl CoulombFriction {
+    /// Its effect (Table 3.1): a dissipation.
+    pub const FRICTION: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "friction" };
+
     /// Below this speed a body in the stuck mode stands still (1e-9 rad/s: a turn in 200 years).
     pub const STANDSTILL_RAD_PER_S: f64 = 1e-9;
 

@@ -1,5 +1,6 @@
 //! Sources: the effort a model imposes from outside.
 
+use fmu_runtime::elements::{Domain, Effect, Kind};
 use std::f64::consts::PI;
 
 /// u(t) = amplitude sin(2 pi f t), the excitation of chapter Figure 3.3.
@@ -15,6 +16,9 @@ pub struct SineVoltage {
 }
 
 impl SineVoltage {
+    /// Its effect (Table 3.1): an electrical source.
+    pub const SOURCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Source, what: "voltage source" };
+
     pub fn angular_frequency_rad_per_s(&self) -> f64 {
         2.0 * PI * self.frequency_hz
     }

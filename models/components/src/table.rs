@@ -3,6 +3,7 @@
 //! component TorqueSpeed, a CombiTable1D read at the motor speed, Figure 3.5).
 
 use crate::roots::bisect;
+use fmu_runtime::elements::{Domain, Effect, Kind};
 
 /// How a table is read between its points.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -37,6 +38,10 @@ pub struct TorqueSpeedTable<const N: usize> {
 }
 
 impl<const N: usize> TorqueSpeedTable<N> {
+    /// Its effect: the motor seen by its steady torque-speed characteristic, a source of
+    /// torque on the shaft (the supply, the windings and the transformer of Table 3.1 lumped).
+    pub const SOURCE: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Source, what: "motor torque-speed characteristic" };
+
     /// The slope of segment `i` (between points i and i + 1); beyond the ends, Akima's linear
     /// extension of the segment slopes.
     fn segment_slope(&self, i: isize) -> f64 {

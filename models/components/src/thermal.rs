@@ -3,6 +3,8 @@
 //! conductance carries it between two nodes in proportion to their temperature difference —
 //! the thermal twins of a capacitor and a resistor.
 
+use fmu_runtime::elements::{Domain, Effect, Kind};
+
 /// A body at one uniform temperature: C dT/dt = net heat flow into it.
 ///
 /// ```
@@ -19,6 +21,9 @@ pub struct ThermalNode {
 }
 
 impl ThermalNode {
+    /// Its effect (Table 3.1): a heat capacity, capacitive storage.
+    pub const CAPACITY: Effect = Effect { domains: &[Domain::Thermal], kind: Kind::StorageC, what: "heat capacity" };
+
     /// A node made of `mass_kg` of a material of specific heat `specific_heat_j_per_kg_k`.
     pub fn of_mass(mass_kg: f64, specific_heat_j_per_kg_k: f64) -> Self {
         ThermalNode { heat_capacity_j_per_k: mass_kg * specific_heat_j_per_kg_k }
@@ -56,6 +61,10 @@ pub struct ThermalConductance {
 }
 
 impl ThermalConductance {
+    /// Its effect (Table 3.1): a thermal resistance (it passes its heat on: its activity is the
+    /// heat flow through it, the energy balance leaves it out, see `fmu_runtime::elements`).
+    pub const RESISTANCE: Effect = Effect { domains: &[Domain::Thermal], kind: Kind::Dissipation, what: "thermal resistance" };
+
     /// The conductance that carries `heat_flow_w` across a steady temperature drop `drop_k`.
     pub fn from_operating_point(heat_flow_w: f64, drop_k: f64) -> Self {
         ThermalConductance { conductance_w_per_k: heat_flow_w / drop_k }
