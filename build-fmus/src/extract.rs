@@ -23,6 +23,14 @@ pub const IDENTIFIER_SYMBOL: &str = "fmu_runtime_model_identifier";
 pub const DESCRIPTION_SYMBOL: &str = "fmu_runtime_model_description";
 /// The documentation symbol's name.
 pub const DOCUMENTATION_SYMBOL: &str = "fmu_runtime_documentation";
+/// The effects symbols: Table 3.1 and the default experiment's activity table (running the
+/// model), as HTML for the documentation and as text for `build-fmus effects`.
+pub const EFFECTS_HTML_SYMBOL: &str = "fmu_runtime_effects_html";
+pub const EFFECTS_TEXT_SYMBOL: &str = "fmu_runtime_effects_text";
+/// Where the documentation page takes the activity table: the comment
+/// `fmu_runtime::documentation::ACTIVITY_TABLE_MARK` writes.
+pub const ACTIVITY_TABLE_MARK: &str = "<!-- activity table of the default experiment -->\n";
+
 /// The problems symbol's name: the model's declaration problems, NULL when there are none.
 pub const PROBLEMS_SYMBOL: &str = "fmu_runtime_model_problems";
 
@@ -33,8 +41,10 @@ pub struct ModelInfo {
     pub identifier: String,
     /// The complete modelDescription.xml.
     pub description: String,
-    /// The complete documentation/index.html.
+    /// The complete documentation/index.html (with the activity table of the default experiment).
     pub documentation: String,
+    /// Table 3.1 and the activity table as text (empty for a model without elements).
+    pub effects: String,
 }
 
 impl ModelInfo {
@@ -64,12 +74,20 @@ pub fn extract(path: &Path, package: &str) -> Result<ModelInfo, String> {
     }
     let identifier = call_string(&lib, IDENTIFIER_SYMBOL, package)?;
     let description = call_string(&lib, DESCRIPTION_SYMBOL, package)?;
-    let documentation = call_string(&lib, DOCUMENTATION_SYMBOL, package)?;
+    let mut documentation = call_string(&lib, DOCUMENTATION_SYMBOL, package)?;
+    if let Some(table) = call_optional_string(&lib, EFFECTS_HTML_SYMBOL)?.filter(|t| !t.is_empty()) {
+        if !documentation.contains(ACTIVITY_TABLE_MARK) {
+            return Err(format!("{package}: the documentation page has no place for the activity table ({ACTIVITY_TABLE_MARK:?})"));
+        }
+        documentation = documentation.replacen(ACTIVITY_TABLE_MARK, &table, 1);
+    }
+    let effects = call_optional_string(&lib, EFFECTS_TEXT_SYMBOL)?.unwrap_or_default();
     drop(lib);
     let info = ModelInfo {
         identifier,
         description,
         documentation,
+        effects,
     };
     check(&info, package)?;
     Ok(info)
@@ -229,6 +247,7 @@ mod tests {
             identifier: id.into(),
             description: xml.into(),
             documentation: "<html></html>".into(),
+            effects: String::new(),
         }
     }
 

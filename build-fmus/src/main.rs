@@ -48,6 +48,8 @@ Usage: cargo run --release -p build-fmus [-- OPTIONS]          every model of th
        build-fmus build <crate directory | model name> [OPTIONS]  one model, wherever it lives
        build-fmus new <ModelName> [--path DIR]                   a new model crate to edit
        build-fmus list                                           the workspace's model crates
+       build-fmus effects <model name>                           its Table 3.1 and the activity
+                                                                 table of its default experiment
 
 Options:
   --out DIR          write the .fmu files to DIR (default: <workspace>/dist, or <crate>/dist
@@ -98,6 +100,8 @@ enum Command {
     New(String),
     /// `list`: the model crates and systems this workspace can build.
     List,
+    /// `effects <model>`: Table 3.1 and the activity table of its default experiment.
+    Effects(String),
 }
 
 /// The parsed command line.
@@ -142,6 +146,10 @@ fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Options, Strin
                 opts.command = Command::New(name.ok_or("new needs a model name, e.g. `new ElevatorDrive`")?);
             }
             "list" if opts.command == Command::BuildAll => opts.command = Command::List,
+            "effects" if opts.command == Command::BuildAll => {
+                let name = args.next().and_then(|n| n.into_string().ok()).filter(|n| !n.is_empty() && !n.starts_with("--"));
+                opts.command = Command::Effects(name.ok_or("effects needs a model's name or package, e.g. `effects MotorFan`")?);
+            }
             "--path" => opts.path = Some(value("--path")?.into()),
             "-h" | "--help" => opts.help = true,
             "--host-build" => opts.host_build = true,
@@ -312,8 +320,10 @@ fn run(opts: &Options) -> Result<usize, String> {
     let cargo_program = cargo::cargo_program();
     let (project, only) = match &opts.command {
         Command::Build(target) => target_project(target, opts, &cargo_program)?,
+        Command::Effects(name) => (workspace_project(opts, &cargo_program)?, vec![name.clone()]),
         _ => (workspace_project(opts, &cargo_program)?, opts.only.clone()),
     };
+    let effects_only = matches!(opts.command, Command::Effects(_));
     let Project { root, target_dir, models, systems } = &project;
     let selection = select(models, &only);
     let toolchain = toolchain::ensure(opts.host_build, &toolchain::tools_dir(&repository()))?;
@@ -357,6 +367,12 @@ fn run(opts: &Options) -> Result<usize, String> {
             failed += 1;
             continue;
         }
+        if effects_only {
+            let text = if info.effects.is_empty() { "no elements declared (a signal block)\n" } else { &info.effects };
+            print!("{}: effects (the chapter's Tables 3.1 and 3.3)\n{text}", info.identifier);
+            written += 1;
+            continue;
+        }
         match package_one(root, &out_dir, &lib_path, &info) {
             Ok((path, size)) => {
                 written += 1;
@@ -383,6 +399,9 @@ fn run(opts: &Options) -> Result<usize, String> {
             known.join(", ")
         );
         failed += unmatched.len();
+    }
+    if effects_only {
+        return Ok(failed);
     }
     let (systems_written, systems_failed) = if *systems {
         package_systems(root, &out_dir, &descriptions, !only.is_empty())
@@ -524,7 +543,7 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let result = match &opts.command {
-        Command::BuildAll | Command::Build(_) => run(&opts),
+        Command::BuildAll | Command::Build(_) | Command::Effects(_) => run(&opts),
         Command::New(name) => new_model(name, &opts),
         Command::List => list(&opts),
     };
@@ -638,6 +657,8 @@ mod tests {
         assert_eq!(o.out, Some(PathBuf::from("/tmp/x")));
         assert_eq!(o.only, ["rlc-circuit", "MotorFan"]);
         assert_eq!(o.workspace, Some(PathBuf::from("/ws")));
+        assert_eq!(args(&["effects", "MotorFan"]).unwrap().command, Command::Effects("MotorFan".into()));
+        assert!(args(&["effects"]).unwrap_err().contains("effects needs"));
         assert!(args(&["-h"]).unwrap().help);
         assert!(args(&["--host-build"]).unwrap().host_build);
         assert!(!args(&[]).unwrap().host_build);

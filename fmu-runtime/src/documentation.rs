@@ -76,6 +76,10 @@ fn package_text(p: &crate::description::Package) -> String {
     format!(" {text}.")
 }
 
+/// Where `build-fmus` puts the activity table of the default experiment (it runs the model to
+/// make it, `fmu_runtime_effects_html`).
+pub const ACTIVITY_TABLE_MARK: &str = "<!-- activity table of the default experiment -->\n";
+
 /// The elements of the model (Table 3.1) and what the runtime derives from them.
 fn effects_section(elements: &[crate::elements::ElementInfo]) -> String {
     if elements.is_empty() {
@@ -88,8 +92,9 @@ fn effects_section(elements: &[crate::elements::ElementInfo]) -> String {
          storage elements' total activity (Table 3.3 ranks these), or a dissipative element's share of the dissipative elements' total, in %. \
          <code>power_balance_residual</code> is the sum of the source powers minus the rates of stored energy minus the dissipated powers, in W \
          (transformers are lossless; a thermal resistance passes its heat on), and <code>power_balance_relative</code> that residual over the \
-         largest element power: 0 up to rounding while the equations conserve energy.</p>\n",
-        crate::elements::effects_table_html(elements)
+         largest element power: 0 up to rounding while the equations conserve energy.</p>\n{}",
+        crate::elements::effects_table_html(elements),
+        ACTIVITY_TABLE_MARK
     )
 }
 

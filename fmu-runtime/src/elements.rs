@@ -196,6 +196,23 @@ pub(crate) fn write_outputs(elements: &[ElementInfo], balance_outputs: Option<Ba
     }
 }
 
+/// The exact directional derivative of a runtime-written output (calculated-store index `y`)
+/// along the state direction `d_states`: an activity output is its state; a share is the ratio
+/// 100 A_i / sum A, so d share = 100 (dA_i sum A - A_i d sum A) / (sum A)^2. None for any other
+/// output, and for a share whose class has no activity yet (its value jumps there). Finite
+/// differences of a ratio of activities that are still far below their nominal scale (just after
+/// the start) straddle its curvature; the runtime writes these entries itself.
+pub(crate) fn output_derivative(elements: &[ElementInfo], states: &[f64], d_states: &[f64], y: usize) -> Option<f64> {
+    let e = elements.iter().find(|e| e.activity_output == Some(y) || e.share_output == Some(y))?;
+    let s = e.activity_state?;
+    if e.activity_output == Some(y) {
+        return Some(d_states[s]);
+    }
+    let class = elements.iter().filter(|o| o.share_output.is_some() && o.effect.kind.is_storage() == e.effect.kind.is_storage());
+    let (sum, d_sum) = class.filter_map(|o| o.activity_state).fold((0.0, 0.0), |(a, b), o| (a + states[o], b + d_states[o]));
+    (sum > 0.0).then(|| 100.0 * (d_states[s] * sum - states[s] * d_sum) / (sum * sum))
+}
+
 /// Table 3.1 for the documentation: one row per component, its domains and its effects, in
 /// declaration order; neglected effects are listed with the reason.
 pub fn effects_table_html(elements: &[ElementInfo]) -> String {
@@ -236,7 +253,13 @@ pub fn effects_table_html(elements: &[ElementInfo]) -> String {
 /// Table 3.1 as plain text, one line per effect: component, domain, kind, effect, element.
 pub fn effects_table_text(elements: &[ElementInfo]) -> String {
     let mut s = format!("{:<22} {:<40} {:<16} {:<34} {}\n", "component", "domain", "kind", "effect", "element");
+    let mut components: Vec<&str> = Vec::new();
     for e in elements {
+        if !components.contains(&e.component.as_str()) {
+            components.push(&e.component);
+        }
+    }
+    for e in components.iter().flat_map(|c| elements.iter().filter(move |e| e.component == *c)) {
         let element = match &e.neglected {
             None => e.name.clone(),
             Some(why) => format!("(neglected: {why})"),
@@ -247,7 +270,7 @@ pub fn effects_table_text(elements: &[ElementInfo]) -> String {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use crate::prelude::*;
 
     const FORCE: Effect = Effect { domains: &[Domain::Translational], kind: Kind::Source, what: "applied force" };

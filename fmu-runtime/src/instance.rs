@@ -993,7 +993,9 @@ impl<M: Model> Instance<M> {
         // near side (MotorFan's rigid reducer 6e-6 rad/s after standstill, whose efficiency
         // switches with the sign of the speed), the finer estimates are rounding noise around
         // zero, which never agree with each other by their own size; by the jump's they do.
-        // If none agree, the first estimate stands.
+        // Where none agree, the finer of the two neighbouring estimates that differ least
+        // stands (an estimate that shrinks with the step, the zero slope of the fan's w |w| at
+        // w = 0, ends on its finest).
         let h0 = (0..slots.len())
             .filter(|j| dv_known[*j] != 0.0)
             .map(|j| 1e-7 * value(j).abs().max(slots[j].2) / dv_known[j].abs())
@@ -1036,7 +1038,28 @@ impl<M: Model> Instance<M> {
         for (u, out) in dv_unknown.iter_mut().enumerate() {
             let scale = estimates.iter().map(|e| e[u].abs()).fold(f64::MIN_POSITIVE, f64::max);
             let agree = |a: f64, b: f64| (a - b).abs() <= 1e-4 * scale;
-            *out = (0..4).find(|r| agree(estimates[*r][u], estimates[r + 1][u])).map(|r| estimates[r][u]).unwrap_or(estimates[0][u]);
+            let differs = |r: usize| (estimates[r][u] - estimates[r + 1][u]).abs();
+            let steadiest = || (0..4).min_by(|a, b| differs(*a).total_cmp(&differs(*b))).map_or(0, |r| r + 1);
+            *out = match (0..4).find(|r| agree(estimates[*r][u], estimates[r + 1][u])) {
+                Some(r) => estimates[r][u],
+                None => estimates[steadiest()][u],
+            };
+        }
+        // The activity and share outputs the runtime itself writes: exactly.
+        if !self.table.elements.is_empty() {
+            let mut d_states = vec![0.0; self.table.n_states];
+            for (j, (_, state, _)) in slots.iter().enumerate() {
+                if let Some(s) = state {
+                    d_states[*s] += dv_known[j];
+                }
+            }
+            for (out, vr) in dv_unknown.iter_mut().zip(unknowns) {
+                if let Slot::Calculated(y) = self.table.variables[*vr as usize].slot {
+                    if let Some(d) = crate::elements::output_derivative(&self.table.elements, &self.states, &d_states, y) {
+                        *out = d;
+                    }
+                }
+            }
         }
         Ok(())
     }

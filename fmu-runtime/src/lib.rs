@@ -39,6 +39,7 @@
 //! // y depends on the state x (index 2), der(x) on x; at initialization also on rate (index 1).
 //! assert!(description.xml.contains(r#"<Unknown index="4" dependencies="2"/>"#));
 //! ```
+pub mod activity_report;
 pub mod description;
 pub mod documentation;
 pub mod elements;

@@ -143,3 +143,17 @@ def rlc_fmu() -> Path:
 
 def pytest_report_header(config):
     return [f"FMU dist dir: {DIST_DIR}", f"FMUs: {', '.join(p.name for p in all_fmu_paths())}"]
+
+
+def print_past_capture(request, title: str, lines: list[str]) -> None:
+    """Prints a module's report (title, then lines) past pytest's output capture, so it shows with or
+    without `-s`; nothing when there are no lines."""
+    if not lines:
+        return
+    text = "\n".join(["", title, *lines, ""])
+    capman = request.config.pluginmanager.getplugin("capturemanager")
+    if capman is not None:
+        with capman.global_and_fixture_disabled():
+            print(text, flush=True)
+    else:  # pragma: no cover (capture plugin disabled)
+        print(text, flush=True)

@@ -25,7 +25,7 @@ from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi1 import FMICallException
 
 import torque_sensor_reference as ref
-from conftest import DIST_DIR, require_fmu
+from conftest import print_past_capture, DIST_DIR, require_fmu
 from fmi_host import Slave
 
 CARRIER_PERIOD = 2e-4  # 5 kHz (f_supply's default, checked in test_defaults_are_the_book_files_values)
@@ -93,15 +93,7 @@ REPORT: list[str] = []
 @pytest.fixture(scope="module", autouse=True)
 def _print_report(request):
     yield
-    if not REPORT:
-        return
-    text = "\n".join(["", "== TorqueSensor figures", *REPORT, ""])
-    capman = request.config.pluginmanager.getplugin("capturemanager")
-    if capman is not None:
-        with capman.global_and_fixture_disabled():
-            print(text, flush=True)
-    else:  # pragma: no cover
-        print(text, flush=True)
+    print_past_capture(request, "== TorqueSensor figures", REPORT)
 
 
 @pytest.fixture(scope="module")

@@ -71,6 +71,26 @@ macro_rules! export_fmu {
                 guarded_text(|e| e.problems.as_ref().map_or(std::ptr::null(), |p| p.as_ptr()))
             }
 
+            /// The effects of the model and their activities over its default experiment (run
+            /// on the first call): (HTML for documentation/index.html, plain text).
+            fn effects() -> &'static (std::ffi::CString, std::ffi::CString) {
+                static EFFECTS: std::sync::OnceLock<(std::ffi::CString, std::ffi::CString)> = std::sync::OnceLock::new();
+                EFFECTS.get_or_init(|| {
+                    let (html, text) = $crate::activity_report::report::<M>();
+                    ($crate::log::to_c_string(&html), $crate::log::to_c_string(&text))
+                })
+            }
+            /// Table 3.1 and the activity table, as HTML (build-fmus puts it in the documentation).
+            #[no_mangle]
+            pub extern "C" fn fmu_runtime_effects_html() -> *const c_char {
+                std::panic::catch_unwind(|| effects().0.as_ptr()).unwrap_or(std::ptr::null())
+            }
+            /// Table 3.1 and the activity table, as text (`build-fmus effects <model>`).
+            #[no_mangle]
+            pub extern "C" fn fmu_runtime_effects_text() -> *const c_char {
+                std::panic::catch_unwind(|| effects().1.as_ptr()).unwrap_or(std::ptr::null())
+            }
+
             #[no_mangle]
             pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
                 f::get_types_platform()

@@ -9,7 +9,7 @@
 //! into the twist; the inertias integrate their own angles accurately, so the twist taken from
 //! them is exact at every communication point.
 
-use components::activity::activity_rate;
+use components::{TorsionSpring, SHAFT_PORT};
 use drive_train::{subsystem_info, ShaftParameters};
 use fmu_runtime::prelude::*;
 
@@ -19,10 +19,12 @@ pub struct DriveShaft {
     angle_b: Input,
     speed_a: Input,
     speed_b: Input,
-    activity: State,
+    stiffness: Element,
+    damping: Element,
+    port_a: Element,
+    port_b: Element,
     y_torque: Output,
     y_twist: Output,
-    y_activity: Output,
 }
 
 const DOCUMENTATION: &str = r#"
@@ -60,23 +62,29 @@ impl Model for DriveShaft {
             angle_b: d.input("angle_b", 0.0, "rad").describe("Reducer-side angle on the high-speed axis (connect Fan.angle_high)"),
             speed_a: d.input("speed_a", 0.0, "rad/s").describe("Motor-side speed (connect InductionMotor.speed)"),
             speed_b: d.input("speed_b", 0.0, "rad/s").describe("Reducer-side speed on the high-speed axis (connect Fan.speed_high)"),
-            activity: d.state("A_stiffness", 0.0, "J").nominal(1e-3).describe("Activity of the shaft stiffness (eq. 3.3)"),
             y_torque: d.output("torque", "N.m").describe("Transmitted torque, K theta + D (speed_a - speed_b)"),
             y_twist: d.output("twist", "rad").describe("Twist angle, angle_a - angle_b"),
-            y_activity: d.output("activity_stiffness", "J").describe("Activity of the shaft stiffness, integral of |K theta dtheta/dt| (eq. 3.3)"),
+            stiffness: d.element("stiffness", "Driveshaft", TorsionSpring::STIFFNESS).describe("the shaft stiffness, power K theta dtheta/dt"),
+            damping: d.element("damping", "Driveshaft", TorsionSpring::DAMPING).describe("the shaft's internal damping, power D (dtheta/dt)^2"),
+            port_a: d.element("port_a", "Motor side", SHAFT_PORT).describe("the motor-side end, power T speed_a delivered into the shaft"),
+            port_b: d.element("port_b", "Reducer side", SHAFT_PORT).describe("the reducer-side end, power -T speed_b (the shaft delivers T speed_b to the fan)"),
         }
     }
 
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
         let (twist, rate) = (k[self.angle_a] - k[self.angle_b], k[self.speed_a] - k[self.speed_b]);
-        der[self.activity] = activity_rate(self.shaft.spring(k).spring_power_w(twist, rate));
+        let spring = self.shaft.spring(k);
+        let torque = spring.torque_n_m(twist, rate);
+        der.power(self.stiffness, spring.spring_power_w(twist, rate));
+        der.power(self.damping, spring.damper_power_w(rate));
+        der.power(self.port_a, torque * k[self.speed_a]);
+        der.power(self.port_b, -torque * k[self.speed_b]);
     }
 
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
         let twist = k[self.angle_a] - k[self.angle_b];
         out[self.y_torque] = self.shaft.spring(k).torque_n_m(twist, k[self.speed_a] - k[self.speed_b]);
         out[self.y_twist] = twist;
-        out[self.y_activity] = k[self.activity];
     }
 }
 

@@ -4,7 +4,7 @@
 //! Coupling expected: DriveShaft.torque -> `shaft_torque`, `angle_high`/`speed_high` ->
 //! DriveShaft.angle_b/speed_b.
 
-use components::activity::activity_rate;
+use components::{FanLoad, Inertia, Reducer, SHAFT_PORT};
 use drive_train::{subsystem_info, FanParameters};
 use fmu_runtime::prelude::*;
 
@@ -13,14 +13,16 @@ pub struct Fan {
     shaft_torque: Input,
     w: State,
     angle: State,
-    activity: State,
     power_flow: Mode,
     power_reversal: Indicator,
     y_speed_high: Output,
     y_angle_high: Output,
     y_fan_speed: Output,
     y_aero_torque: Output,
-    y_activity: Output,
+    inertia: Element,
+    reducer_loss: Element,
+    load: Element,
+    port: Element,
 }
 
 const DOCUMENTATION: &str = r#"
@@ -67,7 +69,6 @@ impl Model for Fan {
             shaft_torque: d.input("shaft_torque", 0.0, "N.m").describe("Torque on the reducer's high-speed shaft (connect DriveShaft.torque)"),
             w: d.state("w_fan", 0.0, "rad/s").nominal(10.0).describe("Fan speed (low-speed side)"),
             angle: d.state("phi_fan", 0.0, "rad").nominal(10.0).describe("Fan angle (low-speed side)"),
-            activity: d.state("A_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the fan inertia (eq. 3.3)"),
             power_flow: d.mode("reducer_power_flow", 1).range(-1, 1).describe(
                 "Direction of the power through the reducer: 1 towards the fan (efficiency eta), -1 back (1/eta)",
             ),
@@ -79,7 +80,13 @@ impl Model for Fan {
             y_angle_high: d.output("angle_high", "rad").describe("Reducer input angle on the high-speed axis, N x fan angle"),
             y_fan_speed: d.output("fan_speed", "rad/s").describe("Fan speed (low-speed side)"),
             y_aero_torque: d.output("aero_torque", "N.m").describe("Aerodynamic torque of the blades, T_fan_nominal w |w| / speed_fan_nominal^2"),
-            y_activity: d.output("activity_inertia", "J").describe("Activity of the fan inertia, integral of |J dw/dt w| (eq. 3.3)"),
+            inertia: d.element("inertia", "Fan", Effect { what: "blade inertia", ..Inertia::INERTIA }).describe("the fan inertia, power J dw/dt w"),
+            reducer_loss: {
+                d.element("reduction_ratio", "Reducer", Reducer::RATIO).describe("the reducer's ratio N, speed_high = N w_fan");
+                d.element("reducer_efficiency", "Reducer", Reducer::EFFICIENCY).describe("the reducer's loss, shaft_torque N w_fan minus the power delivered to the fan")
+            },
+            load: d.element("aerodynamic_load", "Fan", FanLoad::LOAD).describe("the fan's aerodynamic load, power T_fan w_fan"),
+            port: d.element("shaft_port", "Reducer", SHAFT_PORT).describe("the reducer's high-speed shaft, power shaft_torque N w_fan from the driveshaft"),
         }
     }
 
@@ -105,7 +112,12 @@ impl Model for Fan {
         let acceleration = self.acceleration(k);
         der[self.w] = acceleration;
         der[self.angle] = w;
-        der[self.activity] = activity_rate(inertia.power_w(acceleration, w));
+        let reducer = self.fan.reducer(k);
+        let (torque, speed_high) = (k[self.shaft_torque], reducer.ratio * w);
+        der.power(self.inertia, inertia.power_w(acceleration, w));
+        der.power(self.reducer_loss, reducer.loss_flowing_w(torque, speed_high, k[self.power_flow] >= 0));
+        der.power(self.load, self.fan.load(k).torque_n_m(w) * w);
+        der.power(self.port, torque * speed_high);
     }
 
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
@@ -114,7 +126,6 @@ impl Model for Fan {
         out[self.y_angle_high] = self.fan.reducer(k).ratio * k[self.angle];
         out[self.y_fan_speed] = w;
         out[self.y_aero_torque] = self.fan.load(k).torque_n_m(w);
-        out[self.y_activity] = k[self.activity];
     }
 }
 

@@ -5,8 +5,7 @@
 //! Coupling expected: `angle`/`speed` -> DriveShaft.angle_a/speed_a, DriveShaft.torque -> `load_torque`;
 //! with a converter, SpeedController.torque_command -> `torque_command`.
 
-use components::activity::activity_rate;
-use components::Fluxes;
+use components::{Fluxes, InductionMachine, Inertia, TorqueSpeedTable, SHAFT_PORT};
 use drive_train::{converter_fed, MotorParameters, subsystem_info};
 use fmu_runtime::prelude::*;
 
@@ -22,13 +21,22 @@ pub struct InductionMotor {
     psi_sq: State,
     psi_rd: State,
     psi_rq: State,
-    activity: State,
     y_speed: Output,
     y_angle: Output,
     y_torque: Output,
     y_current: Output,
     y_power: Output,
-    y_activity: Output,
+    elements: Elements,
+}
+
+/// The motor's elements (Table 3.1's motor row and the port to the driveshaft).
+struct Elements {
+    supply: Element,
+    winding_inductance: Element,
+    winding_resistance: Element,
+    motor_torque: Element,
+    inertia: Element,
+    port: Element,
 }
 
 /// The motor at one instant.
@@ -37,6 +45,11 @@ struct Operating {
     current_rms: f64,
     power: f64,
     flux_rates: Fluxes,
+    /// The dq model's winding losses and magnetic power (0 without electrical dynamics).
+    winding_loss: f64,
+    magnetic_power: f64,
+    /// Whether the dq model, fed by the supply, makes the torque (else the curve or the converter).
+    from_supply: bool,
 }
 
 impl InductionMotor {
@@ -50,19 +63,27 @@ impl InductionMotor {
         if k[self.drive] == 2 {
             let torque = k[self.torque_command];
             let (current_rms, power) = if with_electrical { converter_fed(&machine, torque, w) } else { (0.0, 0.0) };
-            return Operating { torque, current_rms, power, flux_rates: Fluxes::default() };
+            return Operating { torque, current_rms, power, flux_rates: Fluxes::default(), winding_loss: 0.0, magnetic_power: 0.0, from_supply: false };
         }
         if k[self.electrical_dynamics] {
             let dq = machine.dq_response(self.fluxes(k), w);
-            return Operating { torque: dq.torque_n_m, current_rms: dq.stator_current_rms_a, power: dq.electrical_power_w, flux_rates: dq.flux_rates };
+            return Operating {
+                torque: dq.torque_n_m,
+                current_rms: dq.stator_current_rms_a,
+                power: dq.electrical_power_w,
+                flux_rates: dq.flux_rates,
+                winding_loss: dq.winding_loss_w,
+                magnetic_power: dq.magnetic_power_w,
+                from_supply: true,
+            };
         }
         // Interpolation 0 reads the table by Akima's spline, as the book's level-c file.
         let curve = self.motor.curve(k, true);
         if !with_electrical {
-            return Operating { torque: curve.torque_n_m(&machine, w), current_rms: 0.0, power: 0.0, flux_rates: Fluxes::default() };
+            return Operating { torque: curve.torque_n_m(&machine, w), current_rms: 0.0, power: 0.0, flux_rates: Fluxes::default(), winding_loss: 0.0, magnetic_power: 0.0, from_supply: false };
         }
         let st = curve.steady_state(&machine, w);
-        Operating { torque: st.torque_n_m, current_rms: st.current_rms_a, power: st.electrical_power_w, flux_rates: Fluxes::default() }
+        Operating { torque: st.torque_n_m, current_rms: st.current_rms_a, power: st.electrical_power_w, flux_rates: Fluxes::default(), winding_loss: 0.0, magnetic_power: 0.0, from_supply: false }
     }
 }
 
@@ -117,13 +138,27 @@ impl Model for InductionMotor {
             psi_sq: d.state("psi_sq", 0.0, "Wb").describe("Stator flux, q axis (electrical_dynamics; frozen otherwise)"),
             psi_rd: d.state("psi_rd", 0.0, "Wb").describe("Rotor flux, d axis (electrical_dynamics; frozen otherwise)"),
             psi_rq: d.state("psi_rq", 0.0, "Wb").describe("Rotor flux, q axis (electrical_dynamics; frozen otherwise)"),
-            activity: d.state("A_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the rotor inertia (eq. 3.3)"),
             y_speed: d.output("speed", "rad/s").describe("Rotor speed"),
             y_angle: d.output("angle", "rad").describe("Rotor angle"),
             y_torque: d.output("motor_torque", "N.m").describe("Electromagnetic torque"),
             y_current: d.output("stator_current_rms", "A").describe("Stator phase current, rms"),
             y_power: d.output("electrical_power", "W").describe("Active power drawn (converter: mechanical power through an ideal converter)"),
-            y_activity: d.output("activity_inertia", "J").describe("Activity of the rotor inertia, integral of |J dw/dt w| (eq. 3.3)"),
+            elements: Elements {
+                supply: d.element("voltage_source", "Power supply", InductionMachine::SUPPLY).describe("the grid's voltage source, 3/2 u_sd i_sd (electrical_dynamics only)"),
+                winding_inductance: d
+                    .element("winding_inductance", "Motor", InductionMachine::WINDING_INDUCTANCE)
+                    .describe("the winding inductances, rate of the fluxes' magnetic energy (electrical_dynamics only)"),
+                winding_resistance: d
+                    .element("winding_resistance", "Motor", InductionMachine::WINDING_RESISTANCE)
+                    .describe("the stator and rotor winding resistances (electrical_dynamics only)"),
+                motor_torque: {
+                    d.element("electromechanical_transformer", "Motor", InductionMachine::TRANSFORMER).describe("the motor's conversion of electrical into mechanical power");
+                    d.element("motor_torque", "Motor", Effect { what: "motor torque (curve or converter)", ..TorqueSpeedTable::<3>::SOURCE })
+                        .describe("the motor's torque on its shaft, T_m w, from the steady-state curve or the converter (0 with electrical_dynamics: the supply is the source)")
+                },
+                inertia: d.element("inertia", "Motor", Effect { what: "rotor inertia", ..Inertia::INERTIA }).describe("the rotor inertia, power J dw/dt w"),
+                port: d.element("shaft_port", "Motor", SHAFT_PORT).describe("the shaft end, power -load_torque w (what the motor delivers to the driveshaft)"),
+            },
         }
     }
 
@@ -142,7 +177,14 @@ impl Model for InductionMotor {
         der[self.psi_sq] = op.flux_rates.stator_q;
         der[self.psi_rd] = op.flux_rates.rotor_d;
         der[self.psi_rq] = op.flux_rates.rotor_q;
-        der[self.activity] = activity_rate(rotor.power_w(acceleration, w));
+        let e = &self.elements;
+        let supplied = if op.from_supply { op.power } else { 0.0 };
+        der.power(e.supply, supplied);
+        der.power(e.winding_inductance, op.magnetic_power);
+        der.power(e.winding_resistance, op.winding_loss);
+        der.power(e.motor_torque, if op.from_supply { 0.0 } else { op.torque * w });
+        der.power(e.inertia, rotor.power_w(acceleration, w));
+        der.power(e.port, -k[self.load_torque] * w);
     }
 
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
@@ -152,7 +194,6 @@ impl Model for InductionMotor {
         out[self.y_torque] = op.torque;
         out[self.y_current] = op.current_rms;
         out[self.y_power] = op.power;
-        out[self.y_activity] = k[self.activity];
     }
 }
 
