@@ -101,8 +101,6 @@ NOT_YET = {
     "ShaftLine": "ME against CS at rtol 1e-6: seal_torque 1.11e-5 of its range (bound 1e-5)",
     "RlcCircuit": "test_accuracy.py: share_load_resistance 6.8e-3 of its range at rtol 1e-5 and 1e-6 (bound 10 rtol), "
                   "shares of activities still near zero just after the start",
-    "TractionMotorThermal": "test_accuracy.py at rtol 1e-3 and 1e-4: activity_winding_heat_capacity 0.14 and 0.016 of its "
-                            "range (bound 10 rtol): |C dT/dt| integrates the explicit solver's ripple near the steady state",
     "TorqueSensor": "with the driver's input twist_in = 0.5 rad and 1 ms steps (tests/tests/threads.rs) the solver stalls "
                     "(step below 1e-13 s at t = 2.7 ms) on a jump of the driver's power at the torsion bar's stops",
 }

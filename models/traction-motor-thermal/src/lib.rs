@@ -20,6 +20,12 @@
 //! (G = P_J,nom / 140 K, split by `dT_winding_iron_nominal`), this project's first set.
 //! The levels differ mainly in how fast the winding heats: the question the chapter asks
 //! (question 6).
+//!
+//! Energy (`Elements`, Table 3.1): the Joule losses and the cooling air (a heat sink: a source of
+//! negative power) balance the heat capacities' C dT/dt at every instant, in both levels (one node:
+//! the two capacities at the one temperature); the thermal resistances report the heat flow
+//! through them for their activity and pass it on. The runtime's `power_balance_relative` checks
+//! the sum (unit test `power_balance`).
 
 mod documentation;
 
@@ -101,6 +107,59 @@ pub struct TractionMotorThermal {
     g_iron_ambient: Local,
     g_total: Local,
     tau_one_node: Local,
+    elements: Elements,
+}
+
+/// A heat source of the model: the Joule losses heating the winding.
+const JOULE_LOSSES: Effect = Effect { domains: &[Domain::Thermal], kind: Kind::Source, what: "Joule losses" };
+/// The cooling air at the ambient temperature, a heat sink: a source whose power (the heat it
+/// delivers into the motor) is minus the heat it takes away.
+const COOLING_AIR: Effect = Effect { domains: &[Domain::Thermal], kind: Kind::Source, what: "cooling air (ambient temperature)" };
+
+/// The thermal network's elements (Table 3.1, Figure 3.23) whose heat flows the equations
+/// report; the runtime integrates their activities (eq. 3.3) and checks that the heat sources
+/// (losses, cooling air) match the heat capacities' C dT/dt (the thermal resistances pass their
+/// heat on and stay out of the balance).
+struct Elements {
+    joule_losses: Element,
+    winding_capacity: Element,
+    iron_capacity: Element,
+    slot_insulation: Element,
+    iron_cooling: Element,
+    motor_cooling: Element,
+    cooling_air: Element,
+}
+
+impl Elements {
+    fn declare(d: &mut Declarations) -> Self {
+        let elements = Elements {
+            joule_losses: d.element("joule_losses", "Winding", JOULE_LOSSES).nominal(1e7).describe("the Joule losses heating the winding, P_J (both levels)"),
+            winding_capacity: d.element("winding_heat_capacity", "Winding", Effect { what: "copper heat capacity", ..ThermalNode::CAPACITY }).nominal(1e7).describe(
+                "the winding's heat capacity, C_winding dT_winding/dt (one node: its part of the body, C_winding dT/dt)",
+            ),
+            iron_capacity: d.element("iron_heat_capacity", "Iron core", Effect { what: "iron heat capacity", ..ThermalNode::CAPACITY }).nominal(1e7).describe(
+                "the iron node's heat capacity, C_iron dT_iron/dt (one node: its part of the body, C_iron dT/dt)",
+            ),
+            slot_insulation: d.element("slot_insulation", "Slot insulation", Effect { what: "winding-to-iron thermal resistance", ..ThermalConductance::RESISTANCE }).nominal(1e7).describe(
+                "the slot insulation, heat flow G_winding_iron (T_winding - T_iron) (two nodes; 0 with one node)",
+            ),
+            iron_cooling: d.element("iron_cooling", "Cooling", Effect { what: "iron-to-air thermal resistance", ..ThermalConductance::RESISTANCE }).nominal(1e7).describe(
+                "the iron's convection to the cooling air, heat flow G_iron_ambient (T_iron - T_ambient) (two nodes; 0 with one node)",
+            ),
+            motor_cooling: d.element("motor_cooling", "Cooling", Effect { what: "motor-to-air thermal resistance (one node)", ..ThermalConductance::RESISTANCE }).nominal(1e7).describe(
+                "the one-node model's path to the air, heat flow G_total (T - T_ambient) (one node; 0 with two nodes)",
+            ),
+            cooling_air: d.element("cooling_air", "Cooling", COOLING_AIR).nominal(1e7).describe(
+                "the cooling air, a heat sink: minus the heat it takes from the iron (two nodes) or the body (one node)",
+            ),
+        };
+        d.neglected(
+            "Iron core",
+            Effect { what: "iron and mechanical losses", ..JOULE_LOSSES },
+            "the chapter heats the motor by its Joule losses alone (section 3.5.1: the heat due to Joule losses, P_J,nom = 5 kW)",
+        );
+        elements
+    }
 }
 
 /// The thermal network at the current parameter values.
@@ -196,6 +255,16 @@ impl Model for TractionMotorThermal {
         }
     }
 
+    /// Measured (tests/python/accuracy_table.py, against rtol 1e-10) once the elements' activities
+    /// became states: at rtol 1e-3 and 1e-4 the winding heat capacity's activity, the integral of
+    /// |C dT/dt|, is off by 0.14 and 0.016 of its range (140 and 160 x rtol). Near the steady
+    /// state the explicit solver's step-size cycling leaves a ripple in dT/dt that the absolute
+    /// value rectifies. At 1e-5 every output is within 4.5e-5 of its range (T_winding, 4.5 x rtol),
+    /// and at 1e-6 within 3.9e-6. The default tolerance, 1e-8, is unaffected.
+    fn tolerance_floor() -> Option<f64> {
+        Some(1e-5)
+    }
+
     fn declare(d: &mut Declarations) -> Self {
         let rpm = std::f64::consts::PI / 30.0;
         TractionMotorThermal {
@@ -247,6 +316,7 @@ impl Model for TractionMotorThermal {
             g_iron_ambient: d.calculated_parameter("G_iron_ambient", "W/K").describe("Iron-to-ambient conductance: h_cooling A_cooling (thermal_data = 1), P_joule_nominal / (dT_winding_nominal - dT_winding_iron_nominal) (2)"),
             g_total: d.calculated_parameter("G_total", "W/K").describe("Motor-to-ambient conductance of the one-node model: 1 / R_one_node (thermal_data = 1), P_joule_nominal / dT_winding_nominal (2)"),
             tau_one_node: d.calculated_parameter("time_constant_one_node", "s").describe("Time constant of the one-node model, C_total / G_total"),
+            elements: Elements::declare(d),
         }
     }
 
@@ -307,17 +377,34 @@ impl Model for TractionMotorThermal {
         let n = self.network(k);
         let (winding, iron, ambient) = (k[self.t_winding], k[self.t_iron], k[self.ambient]);
         let losses = self.joule_losses_w(k);
+        // (through the insulation, iron to air, one-node body to air) heat flows, W
+        let flows;
         if self.two_nodes(k) {
             let through_insulation = n.winding_to_iron.heat_flow_w(winding, iron);
+            let to_air = n.iron_to_ambient.heat_flow_w(iron, ambient);
             der[self.t_winding] = n.winding.temperature_rate_k_per_s(losses - through_insulation);
-            der[self.t_iron] = n.iron.temperature_rate_k_per_s(through_insulation - n.iron_to_ambient.heat_flow_w(iron, ambient));
+            der[self.t_iron] = n.iron.temperature_rate_k_per_s(through_insulation - to_air);
+            flows = (through_insulation, to_air, 0.0);
         } else {
             let (body, to_ambient) = n.one_body();
-            let rate = body.temperature_rate_k_per_s(losses - to_ambient.heat_flow_w(winding, ambient));
+            let to_air = to_ambient.heat_flow_w(winding, ambient);
+            let rate = body.temperature_rate_k_per_s(losses - to_air);
             der[self.t_winding] = rate;
             der[self.t_iron] = rate;
+            flows = (0.0, 0.0, to_air);
         }
         der[self.time_below_limit] = if self.latched(k) { 0.0 } else { 1.0 };
+        // Each element's heat flow (one node: the body's C_total dT/dt is its two capacities'
+        // C dT/dt at the one temperature).
+        let e = &self.elements;
+        let (through_insulation, iron_to_air, body_to_air) = flows;
+        der.power(e.joule_losses, losses);
+        der.power(e.winding_capacity, n.winding.heat_capacity_j_per_k * der[self.t_winding]);
+        der.power(e.iron_capacity, n.iron.heat_capacity_j_per_k * der[self.t_iron]);
+        der.power(e.slot_insulation, through_insulation);
+        der.power(e.iron_cooling, iron_to_air);
+        der.power(e.motor_cooling, body_to_air);
+        der.power(e.cooling_air, -(iron_to_air + body_to_air));
     }
 
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
@@ -343,3 +430,106 @@ impl Model for TractionMotorThermal {
 }
 
 fmu_runtime::export_fmu!(TractionMotorThermal);
+
+#[cfg(test)]
+mod power_balance {
+    use super::*;
+    use fmu_runtime::values::Values;
+    use fmu_runtime::variables::{Slot, VariableTable};
+
+    fn set(table: &VariableTable, values: &mut Values, name: &str, value: f64) {
+        match table.by_name(name).unwrap_or_else(|| panic!("no variable {name}")).slot {
+            Slot::Known(i) => values.known[i] = value,
+            Slot::Integer(i) => values.integers[i] = value as i32,
+            Slot::Boolean(i) => values.booleans[i] = value != 0.0,
+            other => panic!("{name}: not settable here ({other:?})"),
+        }
+    }
+
+    fn calculated(table: &VariableTable, name: &str) -> usize {
+        match table.by_name(name).unwrap_or_else(|| panic!("no variable {name}")).slot {
+            Slot::Calculated(i) => i,
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+
+    /// A deterministic spread of numbers in [0, 1) (no dependency for a test).
+    fn spread(n: usize) -> impl Iterator<Item = f64> {
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        (0..n).map(move |_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        })
+    }
+
+    /// The runtime's balance output (`power_balance_relative`: Joule losses + cooling air - the
+    /// heat capacities' C dT/dt) at random temperatures, inputs and times in every configuration
+    /// (levels, thermal data, heat sources, initial states, latch): rounding only. Each element
+    /// left out of the balance in turn shows (its share of the balance > 1e-6 somewhere).
+    #[test]
+    fn the_runtime_balance_holds_in_every_configuration() {
+        let (model, _, table) = fmu_runtime::model::declare::<TractionMotorThermal>();
+        let relative = calculated(&table, "power_balance_relative");
+        let mut r = spread(1_000_000);
+        let mut next = move || r.next().unwrap();
+        let mut worst = 0.0f64;
+        let mut missing = vec![0.0f64; table.elements.len()];
+        let mut reported = vec![false; table.elements.len()];
+        for nodes in [1.0, 2.0] {
+            for data in [1.0, 2.0] {
+                for source in [1.0, 2.0, 3.0, 4.0] {
+                    for start in [1.0, 2.0] {
+                        for latch in [0.0, 1.0] {
+                            let mut worst_here = 0.0f64;
+                            for _ in 0..50 {
+                                let mut values = table.start_values();
+                                for (name, v) in [("nodes", nodes), ("thermal_data", data), ("heat_source", source), ("initial_state", start), ("limit_latch", latch)] {
+                                    set(&table, &mut values, name, v);
+                                }
+                                set(&table, &mut values, "torque_in", 6000.0 * (next() - 0.5));
+                                set(&table, &mut values, "P_joule_in", 20_000.0 * next());
+                                set(&table, &mut values, "T_ambient", 250.0 + 100.0 * next());
+                                set(&table, &mut values, "t_step", 5000.0 * next());
+                                let mut states = vec![0.0; table.n_states];
+                                for (name, v) in [("T_winding_state", 280.0 + 320.0 * next()), ("T_iron_state", 280.0 + 320.0 * next()), ("time_below_limit", 10_000.0 * next())] {
+                                    states[table.state_index(table.by_name(name).unwrap()).unwrap()] = v;
+                                }
+                                let t = 10_000.0 * next();
+                                let (mut der, mut calc) = (vec![0.0; table.n_states], values.calculated.clone());
+                                fmu_runtime::model::evaluate(&model, &table, t, &values.known, &states, &values.integers, &values.booleans, &mut der, &mut calc);
+                                worst_here = worst_here.max(calc[relative].abs());
+                                // The same powers with each element left out of the balance in turn.
+                                let mut powers = vec![0.0; table.elements.len()];
+                                fmu_runtime::model::evaluate_powers(&model, t, &values.known, &states, &values.integers, &values.booleans, &mut der, &mut powers);
+                                for (j, e) in table.elements.iter().enumerate() {
+                                    if e.neglected.is_some() || !e.effect.in_balance() || powers[j] == 0.0 {
+                                        continue;
+                                    }
+                                    reported[j] = true;
+                                    let mut without = powers.clone();
+                                    without[j] = 0.0;
+                                    missing[j] = missing[j].max(fmu_runtime::elements::balance(&table.elements, &without).1.abs());
+                                }
+                            }
+                            println!("nodes {nodes} thermal_data {data} heat_source {source} initial_state {start} limit_latch {latch}: worst |power_balance_relative| {worst_here:.3e}");
+                            worst = worst.max(worst_here);
+                        }
+                    }
+                }
+            }
+        }
+        println!("64 configurations x 50 states: worst |power_balance_relative| {worst:.3e}");
+        assert!(worst <= 1e-12, "worst power_balance_relative {worst:.3e}");
+        for (j, e) in table.elements.iter().enumerate() {
+            if reported[j] {
+                println!("without {}: worst |relative| {:.3e}", e.name, missing[j]);
+                assert!(missing[j] > 1e-6, "leaving {} out of the balance went unseen ({:.3e})", e.name, missing[j]);
+            }
+        }
+        let names: Vec<&str> = table.elements.iter().filter(|e| e.effect.in_balance() && e.neglected.is_none()).map(|e| e.name.as_str()).collect();
+        assert_eq!(names, ["joule_losses", "winding_heat_capacity", "iron_heat_capacity", "cooling_air"], "the balance's terms");
+        assert!(names.iter().all(|n| reported[table.elements.iter().position(|e| e.name == *n).unwrap()]), "every balance term was exercised");
+    }
+}
