@@ -474,6 +474,7 @@ impl<M: Model> Instance<M> {
             self.solver_tolerance(),
             &self.table.state_nominals(),
             &self.table.state_known_index,
+            &self.table.activity_states(),
         )
         .map(Box::new)
     }

@@ -263,12 +263,14 @@ fn knowns_at<R>(p: &[f64], n_known: usize, t: f64, f: impl FnOnce(&[f64]) -> R) 
 }
 
 /// The right-hand side f(t, x) of a model, as diffsol calls it, with the parameter vector of
-/// `parameters`.
-fn rhs_of<M: Model>(model: Arc<M>, integers: Arc<[i32]>, booleans: Arc<[bool]>, n_known: usize) -> impl Fn(&[f64], &[f64], f64, &mut [f64]) + Clone {
+/// `parameters`; with `signed_activities`, an activity's rate is its element's signed power (the
+/// explicit stepper integrates |p| itself: [`Tsit::with_quadratures`]).
+fn rhs_of<M: Model>(model: Arc<M>, integers: Arc<[i32]>, booleans: Arc<[bool]>, n_known: usize, signed_activities: bool) -> impl Fn(&[f64], &[f64], f64, &mut [f64]) + Clone {
     move |x: &[f64], p: &[f64], t: f64, dx: &mut [f64]| {
         dx.fill(0.0);
         knowns_at(p, n_known, t, |known| {
-            model.derivatives(&Knowns::new(t, known, x, &integers, &booleans), &mut Derivatives::new(dx))
+            let mut der = if signed_activities { Derivatives::with_signed_activities(dx) } else { Derivatives::new(dx) };
+            model.derivatives(&Knowns::new(t, known, x, &integers, &booleans), &mut der)
         })
     }
 }
@@ -331,6 +333,8 @@ pub struct Integrator {
     p_next: Vec<f64>,
     /// The explicit method's stepper (None for the implicit method).
     tsit: Option<Tsit>,
+    /// The states whose rate `rhs` gives as a signed power, to integrate in absolute value.
+    quadrature: Vec<bool>,
     /// Whether the next advance may continue the explicit stepper's last step: the last advance
     /// ended inside it or at its end (at `reached`, with the state `y_end` interpolated there)
     /// and the parameter vector has not changed since.
@@ -363,12 +367,15 @@ impl Integrator {
         rtol: f64,
         nominals: &[f64],
         state_known: &[usize],
+        activities: &[usize],
     ) -> Result<Self, String> {
         let integers: Arc<[i32]> = integers.into();
         let booleans: Arc<[bool]> = booleans.into();
         let indicators = (n_indicators > 0)
             .then(|| Box::new(indicators_of(model.clone(), integers.clone(), booleans.clone(), known.len())) as IndicatorFn);
-        let f = rhs_of(model, integers, booleans, known.len());
+        // The explicit stepper integrates activities as quadratures of their signed power.
+        let quadratures = method == Solver::ExplicitRungeKutta;
+        let f = rhs_of(model, integers, booleans, known.len(), quadratures);
         let f_jac = f.clone();
         // Jacobian-vector product by a forward difference along v (exact Jacobians come with
         // the Model Exchange issue); only the implicit method calls it.
@@ -401,7 +408,11 @@ impl Integrator {
             .p(p.clone())
             .build_from_eqn(eqn)
             .map_err(|e| format!("could not set up the ODE solver: {e}"))?;
-        let tsit = (method == Solver::ExplicitRungeKutta).then(|| Tsit::new(n_states, rtol, &atol));
+        let tsit = (method == Solver::ExplicitRungeKutta).then(|| Tsit::new(n_states, rtol, &atol).with_quadratures(activities));
+        let mut quadrature = vec![false; n_states];
+        if quadratures {
+            activities.iter().for_each(|&a| quadrature[a] = true);
+        }
         Ok(Integrator {
             problem,
             rhs,
@@ -415,6 +426,7 @@ impl Integrator {
             p_next: Vec::with_capacity(p.len()),
             p,
             tsit,
+            quadrature,
             resume: false,
             reached: f64::NAN,
             y_end: Vec::with_capacity(n_states),
@@ -506,8 +518,8 @@ impl Integrator {
         self.y_end.clear();
         self.y_end.resize(x0.len(), 0.0);
         (self.rhs)(x0, &self.p, t0, &mut self.y_end);
-        for (y, x) in self.y_end.iter_mut().zip(x0) {
-            *y = x + (t1 - t0) * *y;
+        for ((y, x), q) in self.y_end.iter_mut().zip(x0).zip(&self.quadrature) {
+            *y = x + (t1 - t0) * if *q { y.abs() } else { *y };
         }
     }
 

@@ -6,6 +6,14 @@
 //! can save it and a restored instance continue bit for bit from it, also in the middle of a
 //! step that reaches past the communication point (diffsol keeps its dense output private).
 //!
+//! Activities (chapter eq. 3.3, A = integral of |p| dt) are integrated as quadratures: the
+//! right-hand side gives their signed power p, which is smooth where |p| has a kink at every
+//! sign change; the stepper keeps them out of its error norm (their step is the physical
+//! states'), and an accepted step adds the total variation of the continuous extension's
+//! integral of p, split at the zeros of p inside the step ([`Tsit::with_quadratures`]). So an
+//! activity is as accurate as the states it is computed from, adds no kink error, and does not
+//! change a single bit of the physical states' steps.
+//!
 //! No heap allocation after [`Tsit::new`].
 
 use diffsol::Tableau;
@@ -84,6 +92,11 @@ pub struct Tsit {
     pub h: f64,
     trial: Vec<f64>,
     y_stage: Vec<f64>,
+    /// The quadrature states (activities): their rate is a signed power, integrated as the
+    /// total variation of its integral; out of the error norm.
+    quadrature: Vec<bool>,
+    /// How many states the error norm averages over (the others).
+    n_norm: usize,
 }
 
 impl Tsit {
@@ -98,7 +111,20 @@ impl Tsit {
             h: 0.0,
             trial: vec![0.0; STAGES * n],
             y_stage: vec![0.0; n],
+            quadrature: vec![false; n],
+            n_norm: n,
         }
+    }
+
+    /// Marks the states `quadratures` (indices) as quadratures of a signed rate p whose
+    /// absolute value is integrated: the state advances by the integral of |p| over each step,
+    /// computed from the stages of p, and is left out of the error norm.
+    pub fn with_quadratures(mut self, quadratures: &[usize]) -> Self {
+        for &q in quadratures {
+            self.quadrature[q] = true;
+        }
+        self.n_norm = self.quadrature.iter().filter(|q| !**q).count();
+        self
     }
 
     /// Starts afresh at (t, y) with f(t, y) = `dy` and step size `h`: no step to interpolate in.
@@ -181,6 +207,9 @@ impl Tsit {
             // component over rtol |y| + atol at the step's start.
             let mut norm = 0.0;
             for m in 0..n {
+                if self.quadrature[m] {
+                    continue;
+                }
                 let mut e = 0.0;
                 for j in 0..STAGES {
                     e += k.d[j] * trial[j * n + m];
@@ -188,7 +217,7 @@ impl Tsit {
                 let term = (h * e) / (y[m].abs() * self.rtol + self.atol[m]);
                 norm += term * term;
             }
-            norm /= n as f64;
+            norm /= self.n_norm.max(1) as f64;
             let factor = if norm.is_finite() { (SAFETY * norm.powf(k.exponent)).clamp(MIN_FACTOR, MAX_FACTOR) } else { MIN_FACTOR };
             if norm < 1.0 {
                 // y_stage holds the last stage's argument: y + h sum b_j k_j, the new state.
@@ -215,6 +244,88 @@ impl Tsit {
         self.last.t_start = t;
         self.last.t_end = t_new;
         self.has_step = true;
+        for m in 0..self.n {
+            if self.quadrature[m] {
+                self.last.y_end[m] = self.last.y_start[m] + self.variation(m, 1.0);
+            }
+        }
+    }
+
+    /// The integral of |p| from the last step's start to theta (a fraction of it), for the
+    /// quadrature state `m` whose stages hold p: where every stage has the same sign, the
+    /// absolute value of the integral of p (the method's own weights at theta = 1); else the
+    /// total variation of the continuous extension's integral S(theta) of p, between the zeros
+    /// of its derivative (a cubic) inside [0, theta].
+    fn variation(&self, m: usize, theta: f64) -> f64 {
+        let (n, r) = (self.n, &self.last);
+        let stage = |i: usize| r.stages[i * n + m];
+        let positive = (0..STAGES).all(|i| stage(i) >= 0.0);
+        let negative = (0..STAGES).all(|i| stage(i) <= 0.0);
+        let dt = r.t_end - r.t_start;
+        if theta == 1.0 && (positive || negative) {
+            // The method's own weights b (the last stage's row: first same as last).
+            let b = &self.k.a[STAGES - 1];
+            return (dt * (0..STAGES).map(|i| b[i] * stage(i)).sum::<f64>()).abs();
+        }
+        // S(theta) = sum_j c[j] theta^(j + 1), p(theta) = dS/dtheta.
+        let mut c = [0.0; POLY];
+        for (i, beta) in self.k.beta.iter().enumerate() {
+            for (cj, b) in c.iter_mut().zip(beta) {
+                *cj += dt * b * stage(i);
+            }
+        }
+        let integral = |x: f64| c.iter().rev().fold(0.0, |acc, cj| (acc + cj) * x);
+        if positive || negative {
+            return integral(theta).abs();
+        }
+        let rate = |x: f64| c.iter().enumerate().rev().fold(0.0, |acc, (j, cj)| acc * x + (j + 1) as f64 * cj);
+        // The rate is monotone between the zeros of its derivative 2 c1 + 6 c2 x + 12 c3 x^2.
+        let mut cuts = [0.0, theta, theta, theta, theta];
+        let mut k = 1;
+        let (a, b, cc) = (12.0 * c[3], 6.0 * c[2], 2.0 * c[1]);
+        let mut critical = |x: f64| {
+            if x > 0.0 && x < theta {
+                cuts[k] = x;
+                k += 1;
+            }
+        };
+        if a == 0.0 {
+            if b != 0.0 {
+                critical(-cc / b);
+            }
+        } else {
+            let disc = b * b - 4.0 * a * cc;
+            if disc >= 0.0 {
+                let q = -0.5 * (b + b.signum() * disc.sqrt());
+                critical(q / a);
+                if q != 0.0 {
+                    critical(cc / q);
+                }
+            }
+        }
+        cuts[..=k].sort_by(f64::total_cmp);
+        let (mut total, mut from) = (0.0, 0.0);
+        for w in 1..=k {
+            let (mut lo, mut hi) = (cuts[w - 1], cuts[w]);
+            let (p_lo, p_hi) = (rate(lo), rate(hi));
+            if (p_lo < 0.0 && p_hi > 0.0) || (p_lo > 0.0 && p_hi < 0.0) {
+                // One zero of the rate in this monotone piece: bisection to rounding.
+                for _ in 0..64 {
+                    let mid = 0.5 * (lo + hi);
+                    if mid <= lo || mid >= hi {
+                        break;
+                    }
+                    if (rate(mid) < 0.0) == (p_lo < 0.0) {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                total += (integral(lo) - integral(from)).abs();
+                from = lo;
+            }
+        }
+        total + (integral(theta) - integral(from)).abs()
     }
 
     /// The state at `t` within the last step, from its continuous extension (the step's ends
@@ -245,6 +356,11 @@ impl Tsit {
                 for (o, ki) in out.iter_mut().zip(&r.stages[i * n..(i + 1) * n]) {
                     *o += w * ki;
                 }
+            }
+        }
+        for m in 0..n {
+            if self.quadrature[m] {
+                out[m] = r.y_start[m] + self.variation(m, theta);
             }
         }
     }
@@ -280,6 +396,69 @@ mod tests {
         assert_eq!(s.last.t_end, 10.0, "the last step ends exactly at the limit");
         assert!((s.last.y_end[0] - 10f64.cos()).abs() < 1e-7);
         assert!(steps < 400, "{steps} steps: the step size grows");
+    }
+
+    /// The oscillator with a third state, the activity of p = y1 = -sin t: its rate is the
+    /// signed p, integrated as a quadrature of |p|.
+    fn oscillator_with_activity(y: &[f64], t: f64, dy: &mut [f64]) {
+        oscillator(&y[..2], t, &mut dy[..2]);
+        dy[2] = y[1];
+    }
+
+    /// The integral of |sin t| from 0 to t, in closed form: |cos a - cos b| summed over the
+    /// pieces between the zeros k pi.
+    fn activity_of_sine(t: f64) -> f64 {
+        let (mut total, mut a) = (0.0, 0.0);
+        while a < t {
+            let b = (a + std::f64::consts::PI).min(t);
+            total += (a.cos() - b.cos()).abs();
+            a += std::f64::consts::PI;
+        }
+        total
+    }
+
+    #[test]
+    fn an_activity_is_the_integral_of_the_absolute_power_and_leaves_the_states_bit_for_bit() {
+        let rtol = 1e-9;
+        let mut plain = Tsit::new(2, rtol, &[1e-12, 1e-12]);
+        let mut with = Tsit::new(3, rtol, &[1e-12, 1e-12, 1e-12]).with_quadratures(&[2]);
+        plain.restart(0.0, &[1.0, 0.0], oscillator, 1e-3);
+        with.restart(0.0, &[1.0, 0.0, 0.0], oscillator_with_activity, 1e-3);
+        let (mut rhs, mut rhs3) = (oscillator, oscillator_with_activity);
+        let mut y = [0.0; 3];
+        let mut worst = 0.0f64;
+        while with.last.t_end < 20.0 {
+            plain.step(20.0, &mut rhs).unwrap();
+            with.step(20.0, &mut rhs3).unwrap();
+            assert_eq!((plain.last.t_end.to_bits(), plain.h.to_bits()), (with.last.t_end.to_bits(), with.h.to_bits()));
+            assert_eq!(plain.last.y_end[..], with.last.y_end[..2], "the activity changes no bit of the states");
+            let (a, b) = (with.last.t_start, with.last.t_end);
+            for q in 1..=4 {
+                let t = a + (b - a) * q as f64 / 4.0;
+                with.interpolate(t, &mut y);
+                worst = worst.max((y[2] - activity_of_sine(t)).abs());
+            }
+        }
+        // 6 zeros of sin in 20 s: each a kink of |p|, located inside its step.
+        eprintln!("activity of sin over 20 s at rtol 1e-9: worst error {worst:e}");
+        assert!(worst < 1e-8, "activity off by {worst:e} (exact {})", activity_of_sine(20.0));
+    }
+
+    #[test]
+    fn an_activity_rate_that_changes_sign_inside_one_step_is_split_at_its_zero() {
+        // One step over [0, 1] of p = t - 0.3 (y' = p): |p| integrates to 0.3^2/2 + 0.7^2/2 = 0.29,
+        // where the integral of p is 0.2 (to the rounding of the tableau's coefficients, 1.6e-14).
+        let mut s = Tsit::new(1, 1e-6, &[1.0]).with_quadratures(&[0]);
+        let mut rhs = |_: &[f64], t: f64, dy: &mut [f64]| dy[0] = t - 0.3;
+        s.restart(0.0, &[0.0], |_: &[f64], t: f64, dy: &mut [f64]| dy[0] = t - 0.3, 1.0);
+        s.step(1.0, &mut rhs).unwrap();
+        assert_eq!(s.last.t_end, 1.0, "one step");
+        assert!((s.last.y_end[0] - 0.29).abs() < 1e-13, "{}", s.last.y_end[0]);
+        let mut y = [0.0];
+        s.interpolate(0.5, &mut y);
+        assert!((y[0] - (0.045 + 0.02)).abs() < 1e-13, "{}", y[0]);
+        s.interpolate(0.2, &mut y);
+        assert!((y[0] - (0.3 * 0.3 - 0.1 * 0.1) / 2.0).abs() < 1e-13, "{}", y[0]);
     }
 
     #[test]

@@ -121,16 +121,25 @@ impl IndexMut<Local> for Outputs<'_> {
 pub struct Derivatives<'a> {
     pub(crate) rates: &'a mut [f64],
     pub(crate) powers: Option<&'a mut [f64]>,
+    /// Whether an activity state's rate is the element's signed power p (for a solver that
+    /// integrates |p| itself, as a quadrature: [`crate::rk::Tsit::with_quadratures`]) rather
+    /// than |p|, the rate a Model Exchange master integrates.
+    pub(crate) signed_activity: bool,
 }
 
 impl<'a> Derivatives<'a> {
     pub fn new(rates: &'a mut [f64]) -> Self {
-        Derivatives { rates, powers: None }
+        Derivatives { rates, powers: None, signed_activity: false }
     }
 
     /// Also records each element's power in `powers`, by element.
     pub fn with_powers(rates: &'a mut [f64], powers: &'a mut [f64]) -> Self {
-        Derivatives { rates, powers: Some(powers) }
+        Derivatives { rates, powers: Some(powers), signed_activity: false }
+    }
+
+    /// Writes each activity state's rate as the signed power p, not |p|.
+    pub(crate) fn with_signed_activities(rates: &'a mut [f64]) -> Self {
+        Derivatives { rates, powers: None, signed_activity: true }
     }
 
     /// Reports the power of a declared element, in W: what a source delivers, the rate dE/dt
@@ -140,7 +149,7 @@ impl<'a> Derivatives<'a> {
     /// configuration leaves it out.
     pub fn power(&mut self, element: Element, power_w: f64) {
         if let Some(s) = element.activity {
-            self.rates[s] = power_w.abs();
+            self.rates[s] = if self.signed_activity { power_w } else { power_w.abs() };
         }
         if let Some(p) = self.powers.as_deref_mut() {
             p[element.index] = power_w;

@@ -325,6 +325,11 @@ impl VariableTable {
             .collect()
     }
 
+    /// The state indices of the elements' activities (`A_<element>`).
+    pub fn activity_states(&self) -> Vec<usize> {
+        self.elements.iter().filter_map(|e| e.activity_state).collect()
+    }
+
     /// Start values of the known reals, calculated reals, integers and booleans.
     pub fn start_values(&self) -> crate::values::Values {
         let mut v = crate::values::Values {
