@@ -252,32 +252,22 @@ impl Tsit {
     }
 
     /// The integral of |p| from the last step's start to theta (a fraction of it), for the
-    /// quadrature state `m` whose stages hold p: where every stage has the same sign, the
-    /// absolute value of the integral of p (the method's own weights at theta = 1); else the
-    /// total variation of the continuous extension's integral S(theta) of p, between the zeros
-    /// of its derivative (a cubic) inside [0, theta].
+    /// quadrature state `m` whose stages hold p: the total variation over [0, theta] of the
+    /// continuous extension's integral S(theta) of p, split at the zeros of its derivative (a
+    /// cubic) inside. The stages' signs alone do not tell: a lobe of p of the other sign can fit
+    /// between two stages (RlcCircuit's source power, u i, between the zeros of u and of i).
     fn variation(&self, m: usize, theta: f64) -> f64 {
         let (n, r) = (self.n, &self.last);
-        let stage = |i: usize| r.stages[i * n + m];
-        let positive = (0..STAGES).all(|i| stage(i) >= 0.0);
-        let negative = (0..STAGES).all(|i| stage(i) <= 0.0);
-        let dt = r.t_end - r.t_start;
-        if theta == 1.0 && (positive || negative) {
-            // The method's own weights b (the last stage's row: first same as last).
-            let b = &self.k.a[STAGES - 1];
-            return (dt * (0..STAGES).map(|i| b[i] * stage(i)).sum::<f64>()).abs();
-        }
         // S(theta) = sum_j c[j] theta^(j + 1), p(theta) = dS/dtheta.
+        let dt = r.t_end - r.t_start;
         let mut c = [0.0; POLY];
         for (i, beta) in self.k.beta.iter().enumerate() {
+            let k = r.stages[i * n + m];
             for (cj, b) in c.iter_mut().zip(beta) {
-                *cj += dt * b * stage(i);
+                *cj += dt * b * k;
             }
         }
         let integral = |x: f64| c.iter().rev().fold(0.0, |acc, cj| (acc + cj) * x);
-        if positive || negative {
-            return integral(theta).abs();
-        }
         let rate = |x: f64| c.iter().enumerate().rev().fold(0.0, |acc, (j, cj)| acc * x + (j + 1) as f64 * cj);
         // The rate is monotone between the zeros of its derivative 2 c1 + 6 c2 x + 12 c3 x^2.
         let mut cuts = [0.0, theta, theta, theta, theta];
@@ -459,6 +449,26 @@ mod tests {
         assert!((y[0] - (0.045 + 0.02)).abs() < 1e-13, "{}", y[0]);
         s.interpolate(0.2, &mut y);
         assert!((y[0] - (0.3 * 0.3 - 0.1 * 0.1) / 2.0).abs() < 1e-13, "{}", y[0]);
+    }
+
+    #[test]
+    fn a_lobe_of_the_other_sign_between_two_stages_is_counted() {
+        // p = (t - 0.45)(t - 0.55) over one step [0, 1]: every stage (c = 0, 0.161, 0.327, 0.9,
+        // 0.98, 1) sees p > 0; the lobe between 0.45 and 0.55 is negative, of area 0.1^3 / 6.
+        // Integral of |p| = integral of p + 2 x lobe = (1/3 - 1/2 + 0.2475) + 0.1^3 / 3.
+        let p = |t: f64| (t - 0.45) * (t - 0.55);
+        let mut s = Tsit::new(1, 1e-6, &[1.0]).with_quadratures(&[0]);
+        let mut rhs = |_: &[f64], t: f64, dy: &mut [f64]| dy[0] = p(t);
+        s.restart(0.0, &[0.0], |_: &[f64], t: f64, dy: &mut [f64]| dy[0] = p(t), 1.0);
+        s.step(1.0, &mut rhs).unwrap();
+        assert_eq!(s.last.t_end, 1.0, "one step");
+        let exact = (1.0 / 3.0 - 0.5 + 0.2475) + 1e-3 / 3.0;
+        assert!((s.last.y_end[0] - exact).abs() < 1e-13, "{} against {exact}", s.last.y_end[0]);
+        let mut y = [0.0];
+        s.interpolate(0.5, &mut y);
+        let before = 0.125 / 3.0 - 0.125 + 0.2475 * 0.5; // integral of p over [0, 0.5]
+        let lobe_half = 1e-3 / 12.0; // |integral of p| over [0.45, 0.5]
+        assert!((y[0] - (before + 2.0 * lobe_half)).abs() < 1e-13, "{} against {}", y[0], before + 2.0 * lobe_half);
     }
 
     #[test]
