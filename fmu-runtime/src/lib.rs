@@ -51,6 +51,7 @@ pub mod lifecycle;
 pub mod log;
 pub mod model;
 pub mod state;
+pub mod testing;
 pub mod units;
 pub mod values;
 pub mod variables;

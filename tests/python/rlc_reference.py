@@ -24,7 +24,18 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+# The full circuit's elements (spec, "Energy"): each has an activity, the storage and dissipative
+# ones a share; the runtime adds the energy balance.
+ELEMENTS = ("voltage_source", "line_resistance", "line_inductance", "load_capacitance", "load_resistance")
+# The circuit's outputs, each with its closed form below.
 OUTPUTS = ("u_source", "i_absorbed", "u_capacitor", "i_low_frequency", "i_high_frequency")
+# Every output the modelDescription lists.
+ALL_OUTPUTS = (
+    OUTPUTS
+    + tuple(f"activity_{e}" for e in ELEMENTS)
+    + tuple(f"share_{e}" for e in ELEMENTS if e != "voltage_source")
+    + ("power_balance_residual", "power_balance_relative")
+)
 
 
 @dataclass(frozen=True)

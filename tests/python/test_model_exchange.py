@@ -282,6 +282,25 @@ def sweep_interval(start: float, stop: float, step: float) -> float:
 # Known cases where the master's integrator, not the FMU, misses the bound (strict: each must keep
 # failing, so a change that makes it pass is noticed), with what was measured.
 MASTER_LIMITS = {
+    # Both below crossed their bound when the models declared their elements (issue 21): the
+    # activity states (MotorFan 3 -> 10 of its 22 states, ShaftLine 9 -> 10 of 14, at the
+    # runtime's 1 mJ nominal) join CVode's WRMS error norm, where they count as states and add
+    # next to nothing to the error, and so change its steps. Our Co-Simulation solver keeps
+    # activities out of its norm (fmu-runtime/src/rk.rs); an ME master cannot be told to. In both,
+    # the FMU's Co-Simulation agrees with an independent solution to far better than the bound.
+    # Measured 2026-12-03.
+    ("MotorFan", 1e-8): (
+        "fmpy's CVode at rtol 1e-8 misses the independent solution (tests/python/motor_fan_book.py, DOP853 at rtol "
+        "1e-10) by 0.0758 N m of shaft_torque at 5.46 s, 1.002e-5 of its 7538 N m range against the 1e-5 bound "
+        "(9.96e-6 before the activity states); Co-Simulation at the same tolerance is within 3.4e-4 N m of it "
+        "(4.4e-8 of the range, test_motor_fan_book.py checks it)"
+    ),
+    ("ShaftLine", 1e-6): (
+        "fmpy's CVode at rtol 1e-6 misses the independent Radau solution (shaft_line_reference.py) by 20.6 N m of "
+        "the held seal torque at 145.12 s, 25 s after the final stick (the phase of the shaft's ringing), 1.14e-3 "
+        "of its 18 000 N m range against the 1e-3 bound (6.6e-4 before the activity states); Co-Simulation at the "
+        "same tolerance is within 4.4e-6 N m of Radau there (test_shaft_line.py checks the held torque)"
+    ),
     ("ShaftLine", 1e-8): (
         "fmpy's CVode at rtol 1e-8 places the seal's final stick (t = 120.206 s, book file's case) about 1e-5 s off: "
         "the propeller stops with a deceleration of ~0.06 rad/s2, so its 6e-7 rad/s speed error (3.4e-8 of the range) "

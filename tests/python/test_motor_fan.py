@@ -57,9 +57,15 @@ OUTPUTS = {
     "share_motor_inertia": "%",
     "share_shaft_stiffness": "%",
     "share_fan_inertia": "%",
+    "activity_winding_inductance": "J",
+    "share_winding_inductance": "%",
 }
 ACTIVITIES = ("activity_motor_inertia", "activity_shaft_stiffness", "activity_fan_inertia")
 SHARES = ("share_motor_inertia", "share_shaft_stiffness", "share_fan_inertia")
+# Every storage element (the runtime's shares are among these): Table 3.3's three, and at level d
+# (direct start) the windings' magnetic energy.
+STORAGE_ACTIVITIES = ACTIVITIES + ("activity_winding_inductance",)
+STORAGE_SHARES = SHARES + ("share_winding_inductance",)
 
 BOOK = "book file Chap3_CoolingTowerFan.mo"
 # Spec, "Parameters": name -> (type, unit, variability, default, source). unit None: Integer/Boolean
@@ -828,7 +834,8 @@ def test_pi_and_inverse_simulation_give_the_same_speed(motor_fan_fmu, level):
 @pytest.mark.parametrize("level", list(LEVELS), ids=[f"level-{c}" for c in LEVELS.values()])
 def test_activity_shares_are_consistent(motor_fan_fmu, level, start_mode):
     # reference: spec: activity = integral of |power| (eq. 3.3), so it starts at 0 and never decreases;
-    # share_i = 100 activity_i / sum (0 while the sum is 0), so the shares sum to 100 % when the sum > 0.
+    # share_i = 100 activity_i / sum over the storage elements (0 while the sum is 0), so the storage
+    # elements' shares sum to 100 % when the sum > 0.
     # Level b has a rigid shaft (theta stays 0): no stiffness activity.
     # "Never decreases" holds up to the integration error of the activity, which follows the run's
     # tolerance (fmu_rtol, the DefaultExperiment's): near the steady state |power| is a small difference
@@ -836,8 +843,8 @@ def test_activity_shares_are_consistent(motor_fan_fmu, level, start_mode):
     # the integral, and the solver's steps reach tens of ms; allowed: 10 rtol of the activity between
     # 1 ms samples.
     res = base(motor_fan_fmu, level, start_mode)
-    A = np.column_stack([np.asarray(res[n]) for n in ACTIVITIES])
-    S = np.column_stack([np.asarray(res[n]) for n in SHARES])
+    A = np.column_stack([np.asarray(res[n]) for n in STORAGE_ACTIVITIES])
+    S = np.column_stack([np.asarray(res[n]) for n in STORAGE_SHARES])
     total = A.sum(axis=1)
     assert np.all(A >= 0.0), "negative activity"
     assert np.all(np.diff(A, axis=0) >= -10 * fmu_rtol(motor_fan_fmu) * np.maximum(A[1:], 1.0)), "an activity decreases"
@@ -851,8 +858,8 @@ def test_activity_shares_are_consistent(motor_fan_fmu, level, start_mode):
         assert np.all(A[:, 1] == 0.0), "level b (rigid shaft) has stiffness activity"
     if level >= 2:
         assert pos[-1], f"level {LEVELS[level]}: no activity at all after {STOP_TIME} s"
-    print(f"level {LEVELS[level]}, {START_MODES[start_mode]}: shares at 30 s (motor inertia, shaft stiffness, fan inertia) = "
-          + ", ".join(f"{s:.2f} %" for s in S[-1]))
+    print(f"level {LEVELS[level]}, {START_MODES[start_mode]}: shares at 30 s (motor inertia, shaft stiffness, fan inertia, "
+          "winding inductance) = " + ", ".join(f"{s:.2f} %" for s in S[-1]))
 
 
 def _stiffness_shares(fmu, start_mode: int) -> tuple[float, float]:

@@ -85,9 +85,12 @@ def model_description():
 
 @functools.lru_cache(maxsize=None)
 def elements() -> tuple[str, ...]:
-    """The elements whose activity the FMU reports: its outputs activity_<element> (spec, "Variables")."""
+    """The storage and dissipative elements whose activity the FMU reports: its outputs activity_<element>
+    that have a share_<element> beside them (spec, "Variables"; the supply, a source, has no share)."""
     md = model_description()
-    return tuple(v.name[len("activity_"):] for v in md.modelVariables if v.causality == "output" and v.name.startswith("activity_"))
+    names = {v.name for v in md.modelVariables if v.causality == "output"}
+    return tuple(n[len("activity_"):] for n in sorted(names, key=lambda n: [v.name for v in md.modelVariables].index(n))
+                 if n.startswith("activity_") and f"share_{n[len('activity_'):]}" in names)
 
 
 @functools.lru_cache(maxsize=None)

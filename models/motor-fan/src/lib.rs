@@ -28,8 +28,7 @@
 //! T_limit 2500, no actuator lag, no filter, 153.5 rad/s) stays reachable through parameters:
 //! motor_model = 2 with its circuit values, and the rest by value (docs/motor-fan-spec.md).
 
-use components::activity::{activity_rate, shares_percent};
-use components::{FanLoad, Fluxes, InductionMachine, Inertia, PiController, Reducer, SecondOrderFilter, TorsionSpring};
+use components::{FanLoad, Fluxes, InductionMachine, Inertia, PiController, Reducer, SecondOrderFilter, TorqueSpeedTable, TorsionSpring};
 use drive_train::{converter_fed, ControllerParameters, FanParameters, MotorCurve, MotorParameters, SetPoint, ShaftParameters, TorqueActuatorParameters, TorqueLimitEvent};
 use fmu_runtime::prelude::*;
 
@@ -73,9 +72,6 @@ pub struct MotorFan {
     reference_rate: State,
     actuator_torque: State,
     actuator_torque_rate: State,
-    a_motor: State,
-    a_shaft: State,
-    a_fan: State,
     power_flow: Mode,
     power_reversal: Indicator,
     torque_limit: TorqueLimitEvent,
@@ -86,13 +82,67 @@ pub struct MotorFan {
     y_current: Output,
     y_power: Output,
     y_reference: Output,
-    y_a_motor: Output,
-    y_a_shaft: Output,
-    y_a_fan: Output,
-    y_share_motor: Output,
-    y_share_shaft: Output,
-    y_share_fan: Output,
     j_equivalent: Local,
+    elements: Elements,
+}
+
+/// The drive's elements (Table 3.1) whose powers the equations report; the runtime integrates
+/// their activities (eq. 3.3, Table 3.3) and checks that the powers add up.
+struct Elements {
+    supply: Element,
+    winding_inductance: Element,
+    winding_resistance: Element,
+    motor_torque: Element,
+    motor_inertia: Element,
+    shaft_stiffness: Element,
+    shaft_damping: Element,
+    reducer_efficiency: Element,
+    fan_inertia: Element,
+    aerodynamic_load: Element,
+}
+
+impl Elements {
+    /// Table 3.1's rows for the cooling-tower fan, in the chapter's order (power supply, motor,
+    /// driveshaft, reducer, fan), with the effects the book's models leave out.
+    fn declare(d: &mut Declarations) -> Self {
+        let table = TorqueSpeedTable::<3>::SOURCE;
+        let elements = Elements {
+            supply: d.element("voltage_source", "Power supply", InductionMachine::SUPPLY).describe(
+                "the grid's voltage source, 3/2 u_sd i_sd (level d, direct start; 0 otherwise: the torque-speed table stands for the motor)",
+            ),
+            winding_inductance: d.element("winding_inductance", "Motor", InductionMachine::WINDING_INDUCTANCE).describe(
+                "the winding inductances, rate of the stator and rotor fluxes' magnetic energy (level d, direct start)",
+            ),
+            winding_resistance: d.element("winding_resistance", "Motor", InductionMachine::WINDING_RESISTANCE).describe(
+                "the stator and rotor winding resistances, 3/2 (R_s |i_s|^2 + R_r |i_r|^2) (level d, direct start)",
+            ),
+            motor_torque: d.element("motor_torque", "Motor", Effect { what: "motor torque (table or converter)", ..table }).describe(
+                "the motor's torque on its shaft, T_m w_m: from the torque-speed table (levels a-c, direct start) or the converter (controlled starts)",
+            ),
+            motor_inertia: d.element("motor_inertia", "Motor", Effect { what: "rotor inertia", ..Inertia::INERTIA }).describe(
+                "the motor inertia, power J_m dw/dt w",
+            ),
+            shaft_stiffness: d.element("shaft_stiffness", "Driveshaft", TorsionSpring::STIFFNESS).describe(
+                "the driveshaft stiffness, power K theta dtheta/dt (elastic shaft)",
+            ),
+            shaft_damping: d.element("shaft_damping", "Driveshaft", TorsionSpring::DAMPING).describe(
+                "the driveshaft's internal damping, power D (dtheta/dt)^2 (elastic shaft)",
+            ),
+            reducer_efficiency: d.element("reducer_efficiency", "Reducer", Reducer::EFFICIENCY).describe(
+                "the reducer's loss, the power in at the high-speed side minus the power out at the fan",
+            ),
+            fan_inertia: d.element("fan_inertia", "Fan", Effect { what: "blade inertia", ..Inertia::INERTIA }).describe(
+                "the fan inertia, power J_fan dw/dt w (low-speed side)",
+            ),
+            aerodynamic_load: d.element("aerodynamic_load", "Fan", FanLoad::LOAD).describe("the fan's aerodynamic load, power T_fan w_fan"),
+        };
+        d.element("electromechanical_transformer", "Motor", InductionMachine::TRANSFORMER).describe("the motor's conversion of electrical into mechanical power");
+        d.neglected("Motor", Effect { what: "bearing friction", ..components::CoulombFriction::FRICTION }, "the book's torque-speed table is the torque at the shaft, friction included; Chap3_CoolingTowerFan.mo has none");
+        d.element("reduction_ratio", "Reducer", Reducer::RATIO).describe("the reducer's ratio N, w_high = N w_low");
+        d.neglected("Reducer", Effect { what: "pinion inertia", ..Inertia::INERTIA }, "negligible beside the motor inertia (Figure 3.4)");
+        d.neglected("Reducer", Effect { what: "tooth stiffness", ..TorsionSpring::STIFFNESS }, "far stiffer than the driveshaft (Figure 3.4)");
+        elements
+    }
 }
 
 /// The drive train's elements at the current parameter values.
@@ -128,6 +178,13 @@ struct Operating {
     power_motor_inertia: f64,
     power_shaft_spring: f64,
     power_fan_inertia: f64,
+    power_supply: f64,
+    power_winding_inductance: f64,
+    power_winding_resistance: f64,
+    power_motor_torque: f64,
+    power_shaft_damping: f64,
+    power_reducer_loss: f64,
+    power_fan_load: f64,
 }
 
 impl MotorFan {
@@ -203,6 +260,9 @@ impl MotorFan {
                 let dq = train.motor.dq_response(self.fluxes(k), w_m);
                 motor_torque = dq.torque_n_m;
                 op.flux_rates = dq.flux_rates;
+                op.power_supply = dq.electrical_power_w;
+                op.power_winding_inductance = dq.magnetic_power_w;
+                op.power_winding_resistance = dq.winding_loss_w;
                 op.current_rms = dq.stator_current_rms_a;
                 op.electrical_power = dq.electrical_power_w;
             }
@@ -245,6 +305,8 @@ impl MotorFan {
                 op.motor_acceleration = train.motor_inertia.acceleration_rad_per_s2(motor_torque - op.shaft_torque);
             }
             op.power_shaft_spring = train.shaft.spring_power_w(k[self.twist], op.twist_rate);
+            op.power_shaft_damping = train.shaft.damper_power_w(op.twist_rate);
+            op.power_reducer_loss = train.reducer.loss_flowing_w(op.shaft_torque, n * w_fan, k[self.power_flow] >= 0);
         } else {
             // Rigid shaft: motor and fan accelerate together (w_fan = w_m / N).
             let acceleration = if start == Start::InverseSimulation {
@@ -259,6 +321,7 @@ impl MotorFan {
             }
             op.motor_acceleration = acceleration;
             op.fan_acceleration = acceleration / n;
+            op.power_reducer_loss = train.reducer.loss_w(op.shaft_torque, w_m);
         }
         if start != Start::DirectOnLine && with_electrical {
             self.converter_fed(&train, motor_torque, w_m, &mut op);
@@ -268,7 +331,28 @@ impl MotorFan {
         op.motor_torque = motor_torque;
         op.power_motor_inertia = train.motor_inertia.power_w(op.motor_acceleration, w_m);
         op.power_fan_inertia = train.fan_inertia.power_w(op.fan_acceleration, w_fan);
+        op.power_fan_load = fan_torque * w_fan;
+        // The motor's torque is the source unless the dq model's supply is (level d, direct start).
+        if !(start == Start::DirectOnLine && level == Level::Electrical) {
+            op.power_motor_torque = motor_torque * w_m;
+        }
         op
+    }
+
+    /// Each element's power at this instant (the runtime integrates the activities and sums the
+    /// balance: supply + motor torque = stored + dissipated).
+    fn report_powers(&self, op: &Operating, der: &mut Derivatives) {
+        let e = &self.elements;
+        der.power(e.supply, op.power_supply);
+        der.power(e.winding_inductance, op.power_winding_inductance);
+        der.power(e.winding_resistance, op.power_winding_resistance);
+        der.power(e.motor_torque, op.power_motor_torque);
+        der.power(e.motor_inertia, op.power_motor_inertia);
+        der.power(e.shaft_stiffness, op.power_shaft_spring);
+        der.power(e.shaft_damping, op.power_shaft_damping);
+        der.power(e.reducer_efficiency, op.power_reducer_loss);
+        der.power(e.fan_inertia, op.power_fan_inertia);
+        der.power(e.aerodynamic_load, op.power_fan_load);
     }
 
     /// Level a: no storage; the speed is the torque balance (direct start) or the set point.
@@ -282,6 +366,9 @@ impl MotorFan {
         op.fan_speed = train.reducer.low_speed(w_m);
         op.shaft_torque = load_on_motor(w_m);
         op.motor_torque = op.shaft_torque;
+        op.power_motor_torque = op.motor_torque * w_m;
+        op.power_reducer_loss = train.reducer.loss_w(op.shaft_torque, w_m);
+        op.power_fan_load = train.fan.torque_n_m(op.fan_speed) * op.fan_speed;
         if start == Start::DirectOnLine {
             let st = train.curve.steady_state(&train.motor, w_m);
             op.current_rms = st.current_rms_a;
@@ -374,9 +461,6 @@ impl Model for MotorFan {
             reference_rate: d.state("reference_filtered_rate", 0.0, "rad/s2").nominal(10.0).describe("Rate of the filtered speed set point"),
             actuator_torque: d.state("actuator_torque", 0.0, "N.m").nominal(1000.0).describe("Torque actuator output, the motor torque of the PI start (actuator lag on; frozen otherwise)"),
             actuator_torque_rate: d.state("actuator_torque_rate", 0.0, "N.m/s").nominal(5e6).describe("Rate of the torque actuator output (nominal: the rate a 1000 N m command step starts through the 5024 rad/s lag; a smaller one made its absolute tolerance so tight that the solver steps shrank to microseconds)"),
-            a_motor: d.state("A_motor_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the motor inertia (eq. 3.3)"),
-            a_shaft: d.state("A_shaft_stiffness", 0.0, "J").nominal(1e-3).describe("Activity of the driveshaft stiffness (eq. 3.3)"),
-            a_fan: d.state("A_fan_inertia", 0.0, "J").nominal(1e-3).describe("Activity of the fan inertia (eq. 3.3)"),
             power_flow: d.mode("reducer_power_flow", 1).range(-1, 1).describe(
                 "Direction of the power through the reducer with an elastic shaft: 1 towards the fan (efficiency eta), -1 back (1/eta)",
             ),
@@ -392,13 +476,8 @@ impl Model for MotorFan {
             y_current: d.output("stator_current_rms", "A").describe("Stator phase current, rms"),
             y_power: d.output("electrical_power", "W").describe("Active power drawn (controlled starts: mechanical power through an ideal converter)"),
             y_reference: d.output("speed_reference", "rad/s").describe("Speed set point after the filter"),
-            y_a_motor: d.output("activity_motor_inertia", "J").describe("Activity of the motor inertia, integral of |J_m dw/dt w| (eq. 3.3)"),
-            y_a_shaft: d.output("activity_shaft_stiffness", "J").describe("Activity of the shaft stiffness, integral of |K theta dtheta/dt| (eq. 3.3)"),
-            y_a_fan: d.output("activity_fan_inertia", "J").describe("Activity of the fan inertia, integral of |J_fan dw/dt w| (eq. 3.3)"),
-            y_share_motor: d.output("share_motor_inertia", "%").describe("Motor inertia's share of the total activity (Table 3.3)"),
-            y_share_shaft: d.output("share_shaft_stiffness", "%").describe("Shaft stiffness's share of the total activity (Table 3.3)"),
-            y_share_fan: d.output("share_fan_inertia", "%").describe("Fan inertia's share of the total activity (Table 3.3)"),
             j_equivalent: d.calculated_parameter("J_fan_equivalent", "kg.m2").describe("Fan inertia referred to the high-speed axis, J_fan / N^2 (eq. 3.6; 11.72 in the chapter)"),
+            elements: Elements::declare(d),
         }
     }
 
@@ -450,10 +529,11 @@ impl Model for MotorFan {
             der[self.reference] = set_point.rate;
             der[self.reference_rate] = set_point.acceleration;
         }
+        let op = self.operate(k, false);
+        self.report_powers(&op, der);
         if self.level(k) == Level::QuasiStatic {
             return;
         }
-        let op = self.operate(k, false);
         der[self.w_motor] = op.motor_acceleration;
         der[self.twist] = op.twist_rate;
         der[self.w_fan] = op.fan_acceleration;
@@ -464,9 +544,6 @@ impl Model for MotorFan {
         der[self.pi_integral] = op.integral_rate;
         der[self.actuator_torque] = op.actuator_rate;
         der[self.actuator_torque_rate] = op.actuator_acceleration;
-        der[self.a_motor] = activity_rate(op.power_motor_inertia);
-        der[self.a_shaft] = activity_rate(op.power_shaft_spring);
-        der[self.a_fan] = activity_rate(op.power_fan_inertia);
     }
 
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
@@ -478,14 +555,6 @@ impl Model for MotorFan {
         out[self.y_current] = op.current_rms;
         out[self.y_power] = op.electrical_power;
         out[self.y_reference] = op.reference;
-        let activities = [k[self.a_motor], k[self.a_shaft], k[self.a_fan]];
-        out[self.y_a_motor] = activities[0];
-        out[self.y_a_shaft] = activities[1];
-        out[self.y_a_fan] = activities[2];
-        let [m, s, f] = shares_percent(activities);
-        out[self.y_share_motor] = m;
-        out[self.y_share_shaft] = s;
-        out[self.y_share_fan] = f;
         out[self.j_equivalent] = self.fan.referred_inertia_kg_m2(k);
     }
 }
@@ -502,27 +571,8 @@ fmu_runtime::export_fmu!(MotorFan);
 mod power_balance {
     use super::*;
     use fmu_runtime::values::Values;
-    use fmu_runtime::variables::{Slot, VariableTable};
-
-    fn set(table: &VariableTable, values: &mut Values, name: &str, value: f64) {
-        match table.by_name(name).unwrap_or_else(|| panic!("no variable {name}")).slot {
-            Slot::Known(i) => values.known[i] = value,
-            Slot::Integer(i) => values.integers[i] = value as i32,
-            Slot::Boolean(i) => values.booleans[i] = value != 0.0,
-            other => panic!("{name}: not settable here ({other:?})"),
-        }
-    }
-
-    /// A deterministic spread of numbers in [0, 1) (no dependency for a test).
-    fn spread(n: usize) -> impl Iterator<Item = f64> {
-        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
-        (0..n).map(move |_| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        })
-    }
+    use fmu_runtime::variables::VariableTable;
+    use fmu_runtime::testing::{calculated, set, spread};
 
     /// (source - storage - dissipation, the largest of the terms) at one state. `damper`: whether
     /// the damper's power is counted (false: the deliberately broken balance).
@@ -591,9 +641,62 @@ mod power_balance {
         assert!(missing_damper_seen > 1e-6, "leaving the damper out went unseen ({missing_damper_seen:.3e})");
     }
 
+    /// The runtime's own balance output (`power_balance_relative`, from every element's reported
+    /// power) at random states of every level, start mode and shaft choice: rounding only. At
+    /// level d the direct start runs the dq model (supply, windings, transformer).
+    #[test]
+    fn the_runtime_balance_holds_at_every_level_and_start() {
+        let (model, _, table) = fmu_runtime::model::declare::<MotorFan>();
+        let relative = calculated(&table, "power_balance_relative");
+        let mut r = spread(100_000);
+        let mut next = move || r.next().unwrap();
+        let mut worst = 0.0f64;
+        for level in [1.0, 2.0, 3.0, 4.0] {
+            for start in [1.0, 2.0, 3.0] {
+                for keep in [1.0, 0.0] {
+                    for _ in 0..50 {
+                        let mut values = table.start_values();
+                        set(&table, &mut values, "level", level);
+                        set(&table, &mut values, "start_mode", start);
+                        set(&table, &mut values, "keep_shaft_stiffness", keep);
+                        let mut states = vec![0.0; table.n_states];
+                        for (name, v) in [
+                            ("w_motor", 320.0 * next()),
+                            ("shaft_twist", 10.0 * (next() - 0.5)),
+                            ("psi_sd", 2.0 * (next() - 0.5)),
+                            ("psi_sq", 2.0 * (next() - 0.5)),
+                            ("psi_rd", 2.0 * (next() - 0.5)),
+                            ("psi_rq", 2.0 * (next() - 0.5)),
+                            ("pi_integral", 0.02 * (next() - 0.5)),
+                            ("reference_filtered", 300.0 * next()),
+                            ("reference_filtered_rate", 60.0 * (next() - 0.5)),
+                            ("actuator_torque", 2000.0 * next()),
+                            ("actuator_torque_rate", 1e5 * (next() - 0.5)),
+                        ] {
+                            states[table.state_index(table.by_name(name).unwrap()).unwrap()] = v;
+                        }
+                        let w_m = states[table.state_index(table.by_name("w_motor").unwrap()).unwrap()];
+                        states[table.state_index(table.by_name("w_fan").unwrap()).unwrap()] = w_m / 16.0 * (0.9 + 0.2 * next());
+                        // The power-flow mode as the event update would leave it: the direction of the
+                        // power into the reducer at this state.
+                        let (k, d) = (values.known[slot(&table, "K_shaft")], values.known[slot(&table, "D_shaft")]);
+                        let get = |name: &str| states[table.state_index(table.by_name(name).unwrap()).unwrap()];
+                        let torque = k * get("shaft_twist") + d * (get("w_motor") - 16.0 * get("w_fan"));
+                        set(&table, &mut values, "reducer_power_flow", if torque * get("w_fan") >= 0.0 { 1.0 } else { -1.0 });
+                        let (mut der, mut calc) = (vec![0.0; table.n_states], values.calculated.clone());
+                        fmu_runtime::model::evaluate(&model, &table, 30.0 * next(), &values.known, &states, &values.integers, &values.booleans, &mut der, &mut calc);
+                        worst = worst.max(calc[relative].abs());
+                    }
+                }
+            }
+        }
+        println!("1200 states at levels a-d, every start and shaft: worst power_balance_relative {worst:.3e}");
+        assert!(worst <= 1e-12, "worst power_balance_relative {worst:.3e}");
+    }
+
     fn slot(table: &VariableTable, name: &str) -> usize {
         match table.by_name(name).unwrap().slot {
-            Slot::Known(i) => i,
+            fmu_runtime::variables::Slot::Known(i) => i,
             other => panic!("{name}: {other:?}"),
         }
     }

@@ -47,6 +47,17 @@ pub struct RlcCircuit {
     u_capacitor: Output,
     i_low_frequency: Output,
     i_high_frequency: Output,
+    powers: Powers,
+}
+
+/// The full circuit's elements (Figure 3.3), whose powers the runtime integrates and balances
+/// (the two simplified circuits beside it are not part of the balance).
+struct Powers {
+    source: Element,
+    line_resistance: Element,
+    line_inductance: Element,
+    load_capacitance: Element,
+    load_resistance: Element,
 }
 
 /// The circuit's elements at the current parameter values.
@@ -120,6 +131,13 @@ impl Model for RlcCircuit {
             u_capacitor: d.output("u_capacitor", "V").describe("Load voltage of the full circuit"),
             i_low_frequency: d.output("i_low_frequency", "A").describe("Current of the quasi-static model u/(R_series + R_load)"),
             i_high_frequency: d.output("i_high_frequency", "A").describe("Current of the high-frequency model (R-L circuit)"),
+            powers: Powers {
+                source: d.element("voltage_source", "Source", SineVoltage::SOURCE).describe("the voltage source, power u i_L"),
+                line_resistance: d.element("line_resistance", "Line", Resistor::RESISTANCE).describe("the line resistance, power R_series i_L^2"),
+                line_inductance: d.element("line_inductance", "Line", Inductor::INDUCTANCE).describe("the line inductance, power L_series i_L di_L/dt"),
+                load_capacitance: d.element("load_capacitance", "Load", Capacitor::CAPACITANCE).describe("the load capacitor, power C_load u_C du_C/dt"),
+                load_resistance: d.element("load_resistance", "Load", Resistor::RESISTANCE).describe("the load resistance, power u_C^2 / R_load"),
+            },
         }
     }
 
@@ -127,8 +145,16 @@ impl Model for RlcCircuit {
         let e = self.elements(k);
         let u = self.voltage(&e, k);
         let (i_l, u_c, i_rl) = (k[self.i_l], k[self.u_c], k[self.i_rl]);
-        der[self.i_l] = e.line_inductance.current_rate_a_per_s(u - e.line_resistance.voltage_v(i_l) - u_c);
-        der[self.u_c] = e.load_capacitance.voltage_rate_v_per_s(i_l - e.load_resistance.current_a(u_c));
+        let di_l = e.line_inductance.current_rate_a_per_s(u - e.line_resistance.voltage_v(i_l) - u_c);
+        let du_c = e.load_capacitance.voltage_rate_v_per_s(i_l - e.load_resistance.current_a(u_c));
+        der[self.i_l] = di_l;
+        der[self.u_c] = du_c;
+        let p = &self.powers;
+        der.power(p.source, u * i_l);
+        der.power(p.line_resistance, e.line_resistance.power_w(i_l));
+        der.power(p.line_inductance, e.line_inductance.power_w(i_l, di_l));
+        der.power(p.load_capacitance, e.load_capacitance.power_w(u_c, du_c));
+        der.power(p.load_resistance, u_c * e.load_resistance.current_a(u_c));
         der[self.i_rl] = e.line_inductance.current_rate_a_per_s(u - e.line_resistance.voltage_v(i_rl));
     }
 

@@ -17,24 +17,24 @@
 //! * 8 mOhm, 20 mH, 3e3 kg m2, 10 N m/(rad/s), 6.5e6 N m/rad, 25 000 N m/(rad/s), 150e3 kg m2,
 //!   9000 N m: as Table 3.8.
 
-use components::activity::activity_rate;
-use components::{CoulombFriction, DcMachine, Inertia, PropellerLoad, SpeedRamp, TorsionSpring};
+use components::{CoulombFriction, DcMachine, Inertia, PropellerLoad, SineVoltage, SpeedRamp, TorsionSpring};
 use fmu_runtime::prelude::*;
 use fmu_runtime::variables::number;
 
 mod documentation;
 
-/// The elements whose activity (eq. 3.3) the FMU integrates, in output order.
-const ELEMENTS: [&str; 9] = [
-    "armature_resistance",
-    "armature_inductance",
-    "motor_inertia",
-    "motor_bearings",
-    "shaft_stiffness",
-    "shaft_damping",
-    "propeller_inertia",
-    "seal_friction",
-    "propeller_load",
+/// The elements whose activity (eq. 3.3) the FMU integrates, in the order of `Operating::powers`:
+/// name, component (Table 3.8's rows), effect, and what it is.
+const ELEMENTS: [(&str, &str, Effect, &str); 9] = [
+    ("armature_resistance", "Motor", DcMachine::RESISTANCE, "the armature resistance, power R i^2"),
+    ("armature_inductance", "Motor", DcMachine::INDUCTANCE, "the armature inductance, power L i di/dt"),
+    ("motor_inertia", "Motor", Effect { what: "rotor inertia", ..Inertia::INERTIA }, "the motor rotor's inertia, power J_m dw/dt w (full model only)"),
+    ("motor_bearings", "Motor", Effect { what: "bearing friction (viscous)", ..CoulombFriction::FRICTION }, "the motor bearings' viscous friction, power b w^2"),
+    ("shaft_stiffness", "Shaft", TorsionSpring::STIFFNESS, "the shaft stiffness, power K theta dtheta/dt (full model only)"),
+    ("shaft_damping", "Shaft", TorsionSpring::DAMPING, "the shaft's internal damping, power D (dtheta/dt)^2 (full model only)"),
+    ("propeller_inertia", "Propeller", Effect { what: "propeller inertia (entrained water included)", ..Inertia::INERTIA }, "the propeller inertia, power J_p dw/dt w"),
+    ("seal_friction", "Seal", Effect { what: "seal friction (stick/slip)", ..CoulombFriction::FRICTION }, "the seal's friction, power |T_seal w| while slipping"),
+    ("propeller_load", "Propeller", Effect { what: "hydrodynamic load", ..components::FanLoad::LOAD }, "the propeller's hydrodynamic load, power a w |w| w"),
 ];
 
 /// pi as the book's file writes it in every speed (120 rpm = 120 2 3.14 / 60 rad/s).
@@ -84,7 +84,8 @@ pub struct ShaftLine {
     w_motor: State,
     twist: State,
     w_propeller: State,
-    activities: [State; 9],
+    elements: [Element; 9],
+    supply: Element,
     seal_mode: Mode,
     seal: Indicator,
     y_voltage: Output,
@@ -96,7 +97,6 @@ pub struct ShaftLine {
     y_shaft_torque_ratio: Output,
     y_propeller_torque: Output,
     y_seal_torque: Output,
-    y_activities: [Output; 9],
     k_machine: Local,
     a_propeller: Local,
     i_rated: Local,
@@ -143,8 +143,10 @@ struct Operating {
     propeller_acceleration: f64,
     propeller_torque: f64,
     seal_torque: f64,
-    /// |power| of each element of `ELEMENTS`, W.
+    /// The power of each element of `ELEMENTS`, W (what it stores per second or dissipates).
     powers: [f64; 9],
+    /// The supply's power U i, W.
+    supply_power: f64,
 }
 
 impl ShaftLine {
@@ -228,7 +230,7 @@ impl ShaftLine {
         let voltage = self.voltage(k);
         let i = k[self.current];
         let motor_torque = m.torque_n_m(i);
-        let mut op = Operating { voltage, motor_torque, ..Operating::default() };
+        let mut op = Operating { voltage, motor_torque, supply_power: voltage * i, ..Operating::default() };
         let structure = self.structure(k);
         if structure != Structure::Full {
             // A rigid massless shaft and motor rotor: L di/dt = U - R i - k w, J_p dw/dt = k i - b w
@@ -305,12 +307,6 @@ impl Model for ShaftLine {
     }
 
     fn declare(d: &mut Declarations) -> Self {
-        let activity_state = |d: &mut Declarations, name: &str| {
-            d.state(&format!("A_{name}"), 0.0, "J").describe(&format!("Activity of the {} (eq. 3.3), integral of |power| dt", name.replace('_', " ")))
-        };
-        let activity_output = |d: &mut Declarations, name: &str| {
-            d.output(&format!("activity_{name}"), "J").describe(&format!("Activity of the {} since t = 0 (eq. 3.3, integral of |power| dt)", name.replace('_', " ")))
-        };
         ShaftLine {
             model_reduction: d.integer_parameter("model_reduction", 0).range(0, 2).describe(
                 "0 = the full model; 1 = the book's reduced model (file Chap3_Submarine.mo, ReducedModel: no motor inertia, a rigid shaft; \
@@ -360,7 +356,6 @@ impl Model for ShaftLine {
             w_motor: d.state("w_motor", 0.0, "rad/s").nominal(10.0).describe("Motor speed (frozen in the reduced models)"),
             twist: d.state("shaft_twist", 0.0, "rad").nominal(0.03).describe("Shaft twist, motor angle minus propeller angle (frozen in the reduced models)"),
             w_propeller: d.state("w_propeller", 0.0, "rad/s").nominal(10.0).describe("Propeller speed (the line's speed in the reduced models)"),
-            activities: ELEMENTS.map(|name| activity_state(d, name)),
             seal_mode: d.mode("seal_mode", 0).range(-1, 1).describe("Seal: 1 slipping forwards, 0 stuck (propeller held), -1 slipping backwards"),
             seal: d.event_indicator("seal", "slipping: the propeller speed in the direction of slip; stuck: T_seal_static - |required torque|"),
             y_voltage: d.output("supply_voltage", "V").describe("Armature supply voltage"),
@@ -374,7 +369,12 @@ impl Model for ShaftLine {
             y_shaft_torque_ratio: d.output("shaft_torque_ratio", "1").describe("Shaft torque / rated torque T_rated"),
             y_propeller_torque: d.output("propeller_torque", "N.m").describe("Hydrodynamic torque of the propeller, a w |w| (propeller_law 2: a w^2)"),
             y_seal_torque: d.output("seal_torque", "N.m").describe("Friction torque of the seal on the propeller side (stuck: what holding it takes)"),
-            y_activities: ELEMENTS.map(|name| activity_output(d, name)),
+            elements: ELEMENTS.map(|(name, component, effect, what)| d.element(name, component, effect).describe(what)),
+            supply: {
+                d.element("electromechanical_transformer", "Motor", DcMachine::TRANSFORMER).describe("the DC machine's conversion, E = k w, C = k I (eq. 3.9)");
+                d.element("supply", "Power supply", Effect { what: "DC voltage source", ..SineVoltage::SOURCE })
+                    .describe("the armature supply, power U i (the ramp, plateau and short circuit, or the input U_supply_in)")
+            },
             k_machine: d.calculated_parameter("k_machine", "V.s/rad").describe(
                 "Machine constant k = E/w = C/I (eq. 3.9): k_emf, or from the rated point U_rated = R I + k w_rated, T_rated = k I (emf_constant = 2)",
             ),
@@ -444,9 +444,10 @@ impl Model for ShaftLine {
             der[self.w_motor] = op.motor_acceleration;
             der[self.twist] = op.twist_rate;
         }
-        for (a, p) in self.activities.iter().zip(op.powers) {
-            der[*a] = activity_rate(p);
+        for (e, p) in self.elements.iter().zip(op.powers) {
+            der.power(*e, p);
         }
+        der.power(self.supply, op.supply_power);
     }
 
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
@@ -461,9 +462,6 @@ impl Model for ShaftLine {
         out[self.y_shaft_torque_ratio] = op.shaft_torque / k[self.t_rated];
         out[self.y_propeller_torque] = op.propeller_torque;
         out[self.y_seal_torque] = op.seal_torque;
-        for (y, a) in self.y_activities.iter().zip(self.activities) {
-            out[*y] = k[a];
-        }
         out[self.k_machine] = line.machine.constant_v_s_per_rad;
         out[self.a_propeller] = line.load.coefficient_n_m_s2_per_rad2;
         out[self.i_rated] = k[self.t_rated] / line.machine.constant_v_s_per_rad;

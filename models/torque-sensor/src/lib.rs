@@ -33,8 +33,14 @@
 //! from the parameters by phasors (`Sensor::steady_demodulated_v`), removes the zero-torque
 //! offset u(0), and inverts u(twist) - u(0) to the twist, times the stiffness:
 //! `torque_measured`. No number is fitted: change a parameter and the calibration follows.
+//!
+//! Energy (`Elements`, Table 3.1): the supply's power = the winding, bridge and R-L model's
+//! resistances' losses + each reluctance's mmf x dflux/dt + the R-L model's L i di/dt; the
+//! driver's torque x twist rate = the torsion bar's K twist dtwist/dt. The two sides exchange no
+//! power because the reluctance torque on the toothed rings (~1e-7 N m) is left out; the runtime's
+//! `power_balance_relative` checks the sum (unit test `power_balance`).
 
-use components::{Multiplier, Ramp, Reluctance, SecondOrderFilter, SineVoltage, ToothFaces, ToothedAirGap, TorsionBar, Winding};
+use components::{Inductor, Inertia, Multiplier, Ramp, Reluctance, Resistor, SecondOrderFilter, SineVoltage, ToothFaces, ToothedAirGap, TorsionBar, Winding};
 use fmu_runtime::prelude::*;
 
 mod documentation;
@@ -138,6 +144,109 @@ pub struct TorqueSensor {
     l_b: Local,
     offset: Local,
     slope: Local,
+    elements: Elements,
+}
+
+/// The driver's side of the torsion bar: the imposed angle (the book's position source) or the
+/// applied torque, delivering torque x twist rate.
+const DRIVER: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Source, what: "steering torque (imposed angle or applied torque)" };
+
+/// The sensor's elements (Table 3.1, Figure 3.27) whose powers the equations report; the runtime
+/// integrates their activities (eq. 3.3) and checks that the powers add up: the supply = the
+/// resistances' losses + the reluctances' mmf dflux/dt; the driver = the torsion bar's K twist
+/// dtwist/dt (the two sides exchange no power: the reluctance torque is left out).
+struct Elements {
+    driver: Element,
+    torsion_bar: Element,
+    supply: Element,
+    bridge_resistors: Element,
+    winding_a_resistance: Element,
+    winding_b_resistance: Element,
+    iron_a: Element,
+    air_gaps_a: Element,
+    toothed_gap_a: Element,
+    iron_b: Element,
+    air_gaps_b: Element,
+    toothed_gap_b: Element,
+    rl_supply: Element,
+    rl_inductance: Element,
+    rl_resistance: Element,
+}
+
+impl Elements {
+    /// Table 3.1's rows for the sensor, in Figure 3.27's order (mechanical, magnetic, electric),
+    /// with the effects the chapter leaves out.
+    fn declare(d: &mut Declarations) -> Self {
+        let winding_resistance = Effect { what: "winding resistance", ..Resistor::RESISTANCE };
+        let iron = Effect { what: "iron reluctance", ..Reluctance::RELUCTANCE };
+        let air_gaps = Effect { what: "air-gap reluctance", ..Reluctance::RELUCTANCE };
+        let toothed_gap = Effect { what: "toothed air-gap reluctance (twist-dependent)", ..Reluctance::RELUCTANCE };
+        let leakage = Effect { what: "leakage flux", ..Reluctance::RELUCTANCE };
+        let leakage_reason = "the chapter ignores the quarter-circle field lines of the leakage flux (section 3.5.2, Figure 3.25)";
+        let driver = d.element("driver", "Steering wheel", DRIVER).nominal(1e-2).describe(
+            "the driver's side of the torsion bar, torque x twist rate: K twist dtwist/dt with the angle imposed (twist_drive = 1), T dtwist/dt with the torque applied (2; 0 at the stops)",
+        );
+        let torsion_bar = d.element("torsion_bar", "Torsion bar", TorsionBar::STIFFNESS).nominal(1e-2).describe("the torsion bar's stiffness, power K_torsion_bar twist dtwist/dt");
+        d.neglected(
+            "Torsion bar",
+            Effect { what: "input and output shaft inertia", ..Inertia::INERTIA },
+            "the chapter models the mechanical part by the torsion bar's stiffness alone (section 3.5.2, question 6)",
+        );
+        let iron_a = d.element("iron_A", "Magnetic circuit A", iron).nominal(1e-4).describe(
+            "part A's iron flux tubes (the book's yoke shell, poles and ring A; the first set's iron path), power mmf dflux_A/dt",
+        );
+        let air_gaps_a = d.element("air_gaps_A", "Magnetic circuit A", air_gaps).nominal(1e-4).describe("part A's two radial air gaps, power mmf dflux_A/dt");
+        let toothed_gap_a = d.element("toothed_gap_A", "Magnetic circuit A", toothed_gap).nominal(1e-4).describe(
+            "part A's toothed gap (arrangement = 2, at the opposite twist; 0 otherwise), power mmf dflux_A/dt",
+        );
+        d.neglected("Magnetic circuit A", leakage, leakage_reason);
+        let iron_b = d.element("iron_B", "Magnetic circuit B", iron).nominal(1e-4).describe(
+            "part B's iron flux tubes (the book's yoke shell, poles and ring B; the first set's iron path), power mmf dflux_B/dt",
+        );
+        let air_gaps_b = d.element("air_gaps_B", "Magnetic circuit B", air_gaps).nominal(1e-4).describe("part B's two radial air gaps, power mmf dflux_B/dt");
+        let toothed_gap_b = d.element("toothed_gap_B", "Magnetic circuit B", toothed_gap).nominal(1e-4).describe(
+            "part B's toothed gap (question 7), power mmf dflux_B/dt",
+        );
+        d.neglected("Magnetic circuit B", leakage, leakage_reason);
+        d.neglected(
+            "Magnetic circuit B",
+            Effect { domains: &[Domain::Magnetic, Domain::Rotational], kind: Kind::Transformer, what: "reluctance torque on the toothed rings" },
+            "the twist is set by the drive alone: the magnetic torque flux_B^2/2 |dR/dtwist| on ring B stays below 3e-7 N m at the book's currents (up to 1 mA), beside the bar's ~1 N m; so the toothed gaps' power is mmf x dflux/dt, their energy's rate less that torque's work (below 1e-4 of the supply's power)",
+        );
+        d.element("winding_A", "Winding A", Winding::TRANSFORMER).describe("winding A's N turns, mmf N i_A and voltage N dflux_A/dt");
+        let winding_a_resistance = d.element("winding_A_resistance", "Winding A", winding_resistance).nominal(1e-4).describe("winding A's resistance, R_winding i_A^2");
+        d.element("winding_B", "Winding B", Winding::TRANSFORMER).describe("winding B's N turns, mmf N i_B and voltage N dflux_B/dt");
+        let winding_b_resistance = d.element("winding_B_resistance", "Winding B", winding_resistance).nominal(1e-4).describe("winding B's resistance, R_winding i_B^2");
+        let supply = d.element("voltage_source", "Bridge supply", SineVoltage::SOURCE).nominal(1e-4).describe(
+            "the bridge supply, u_supply times the current it feeds the bridge (both arms; not question 5's R-L model)",
+        );
+        let bridge_resistors = d.element("bridge_resistors", "Bridge", Effect { what: "bridge resistors", ..Resistor::RESISTANCE }).nominal(1e-4).describe(
+            "the bridge's resistors: u_supply^2 / (R1_bridge + R2_bridge) (bridge_topology = 1), R_bridge (i_A^2 + i_B^2) (2)",
+        );
+        let rl = "R-L model of winding A (question 5)";
+        let rl_supply = d.element("rl_voltage_source", rl, SineVoltage::SOURCE).nominal(1e-4).describe("the bridge supply's power into question 5's R-L model, u_supply i_rl_A");
+        let rl_inductance = d.element("rl_inductance", rl, Inductor::INDUCTANCE).nominal(1e-4).describe("the R-L model's inductance L_question4, L i di/dt");
+        let rl_resistance = d.element("rl_resistance", rl, Effect { what: "resistances R_winding + R_bridge", ..Resistor::RESISTANCE }).nominal(1e-4).describe(
+            "the R-L model's resistances, (R_winding + R_bridge) i_rl_A^2",
+        );
+        Elements {
+            driver,
+            torsion_bar,
+            supply,
+            bridge_resistors,
+            winding_a_resistance,
+            winding_b_resistance,
+            iron_a,
+            air_gaps_a,
+            toothed_gap_a,
+            iron_b,
+            air_gaps_b,
+            toothed_gap_b,
+            rl_supply,
+            rl_inductance,
+            rl_resistance,
+        }
+    }
 }
 
 /// Instants this close before a kink of a built-in profile count as the kink (relative to 1 + |t|, s):
@@ -184,6 +293,11 @@ struct Operating {
     linkage_rate: f64,
     bridge: f64,
     product: f64,
+    twist_rate: f64,
+    /// d(flux)/dt through winding A and through winding B, Wb/s (the states' rates with a
+    /// resistor above each winding; from the flux linkage's in the book's arm).
+    flux_a_rate: f64,
+    flux_b_rate: f64,
 }
 
 impl TorqueSensor {
@@ -191,6 +305,8 @@ impl TorqueSensor {
         use std::f64::consts::PI;
         let book = k[self.sensor_data] == 1;
         let (fixed_a, fixed_b, question4_gap, teeth, teeth_sign, stop);
+        // the iron and air-gap parts of fixed_a and fixed_b, for their powers
+        let (iron_a, air_gaps_a, iron_b, air_gaps_b);
         let gap_a = Reluctance::radial_air_gap(k[self.r1], k[self.r2], k[self.b]);
         if book {
             let mu = k[self.mu_r_iron];
@@ -203,6 +319,8 @@ impl TorqueSensor {
             let gap_b = Reluctance::radial_air_gap(k[self.r1_b], k[self.r2_b], k[self.b_b]);
             fixed_a = yoke.series(gap_a).series(gap_a).series(ring(k[self.ring_a_length]));
             fixed_b = yoke.series(gap_b).series(gap_b).series(ring(k[self.ring_b_length]));
+            (iron_a, air_gaps_a) = (yoke.series(ring(k[self.ring_a_length])), gap_a.series(gap_a));
+            (iron_b, air_gaps_b) = (yoke.series(ring(k[self.ring_b_length])), gap_b.series(gap_b));
             let faces = ToothFaces::Axial { inner_radius_m: k[self.teeth_r_inner], outer_radius_m: k[self.teeth_r_outer] };
             teeth = ToothedAirGap::half_pitch(k[self.teeth_poles], faces, k[self.teeth_gap]);
             teeth_sign = -1.0;
@@ -210,6 +328,8 @@ impl TorqueSensor {
             let iron = Reluctance::uniform(k[self.iron_path_length], 2.0 * PI * k[self.r1] * k[self.b], k[self.mu_r_iron_path]);
             fixed_a = gap_a.series(gap_a).series(iron);
             fixed_b = fixed_a;
+            (iron_a, air_gaps_a) = (iron, gap_a.series(gap_a));
+            (iron_b, air_gaps_b) = (iron_a, air_gaps_a);
             teeth = ToothedAirGap {
                 teeth: k[self.teeth],
                 faces: ToothFaces::Radial { radius_m: k[self.tooth_radius], axial_length_m: k[self.tooth_length] },
@@ -227,6 +347,10 @@ impl TorqueSensor {
             winding: Winding { turns: k[self.turns], resistance_ohm: k[self.r_winding] },
             fixed_a,
             fixed_b,
+            iron_a,
+            air_gaps_a,
+            iron_b,
+            air_gaps_b,
             question4_gap,
             teeth,
             teeth_sign,
@@ -319,7 +443,7 @@ impl TorqueSensor {
         let (l_a, l_b) = s.inductances_h(twist);
         let n = s.winding.turns;
         let r_w = s.winding.resistance_ohm;
-        let (i_a, i_b, flux_a, flux_b, linkage_rate, bridge);
+        let (i_a, i_b, flux_a, flux_b, linkage_rate, bridge, flux_a_rate, flux_b_rate);
         match s.topology {
             Topology::WindingsInOneArm => {
                 // one current through A and B: N (flux_A + flux_B) = (L_A + L_B) i
@@ -337,6 +461,9 @@ impl TorqueSensor {
                 bridge = supply * divider - midpoint;
                 (i_a, i_b) = (i, i);
                 (flux_a, flux_b) = (l_a * i / n, l_b * i / n);
+                // N flux_B = rho linkage, N flux_A = (1 - rho) linkage
+                flux_b_rate = (rho * linkage_rate + linkage * rho_rate) / n;
+                flux_a_rate = ((1.0 - rho) * linkage_rate - linkage * rho_rate) / n;
             }
             Topology::ResistorAboveEachWinding => {
                 (flux_a, flux_b) = (k[self.flux_a], k[self.flux_b]);
@@ -344,6 +471,9 @@ impl TorqueSensor {
                 i_b = s.winding.current_a(flux_b, s.circuit_b(twist));
                 bridge = s.r_arm_ohm * (i_b - i_a);
                 linkage_rate = 0.0;
+                let r_b = s.r_arm_ohm;
+                flux_a_rate = s.winding.flux_rate_wb_per_s(supply - r_b * i_a, i_a);
+                flux_b_rate = s.winding.flux_rate_wb_per_s(supply - r_b * i_b, i_b);
             }
         }
         Operating {
@@ -359,7 +489,44 @@ impl TorqueSensor {
             linkage_rate,
             bridge,
             product: s.multiplier.product(bridge, supply),
+            twist_rate,
+            flux_a_rate,
+            flux_b_rate,
         }
+    }
+
+    /// Each element's power at this instant (`Elements`): the supply's into the bridge = the
+    /// resistances' losses + the reluctances' mmf dflux/dt; the R-L model's source = its L i di/dt
+    /// + its losses; the driver's torque x twist rate = the torsion bar's K twist dtwist/dt.
+    fn report_powers(&self, s: &Sensor, op: &Operating, i_rl: f64, i_rl_rate: f64, der: &mut Derivatives) {
+        let e = &self.elements;
+        let u = op.supply;
+        let r_w = s.winding.resistance_ohm;
+        let (supply, bridge_resistors) = match s.topology {
+            Topology::WindingsInOneArm => {
+                // the resistors' arm R1 + R2 across the supply, beside the windings' arm carrying i
+                let arm = u * u / (s.r_upper_ohm + s.r_lower_ohm);
+                (u * op.i_a + arm, arm)
+            }
+            Topology::ResistorAboveEachWinding => (u * (op.i_a + op.i_b), s.r_arm_ohm * (op.i_a * op.i_a + op.i_b * op.i_b)),
+        };
+        der.power(e.supply, supply);
+        der.power(e.bridge_resistors, bridge_resistors);
+        der.power(e.winding_a_resistance, r_w * op.i_a * op.i_a);
+        der.power(e.winding_b_resistance, r_w * op.i_b * op.i_b);
+        let m = s.magnetic_powers_w(op.twist, op.flux_a, op.flux_a_rate, op.flux_b, op.flux_b_rate);
+        der.power(e.iron_a, m.iron_a);
+        der.power(e.air_gaps_a, m.air_gaps_a);
+        der.power(e.toothed_gap_a, m.toothed_gap_a);
+        der.power(e.iron_b, m.iron_b);
+        der.power(e.air_gaps_b, m.air_gaps_b);
+        der.power(e.toothed_gap_b, m.toothed_gap_b);
+        let rl = s.rl_winding();
+        der.power(e.rl_supply, u * i_rl);
+        der.power(e.rl_inductance, rl.inductance_h * i_rl * i_rl_rate);
+        der.power(e.rl_resistance, (rl.resistance_ohm + s.r_arm_ohm) * i_rl * i_rl);
+        der.power(e.torsion_bar, s.torsion_bar.stiffness_n_m_per_rad * op.twist * op.twist_rate);
+        der.power(e.driver, op.torque * op.twist_rate);
     }
 
     /// The filter's natural angular frequency: its second state is y' / wn (in V, like y).
@@ -473,6 +640,7 @@ impl Model for TorqueSensor {
             l_b: d.calculated_parameter("L_B0", "H").describe("Inductance of winding B at zero twist"),
             offset: d.calculated_parameter("u_demodulated_zero_torque", "V").describe("Steady demodulated voltage at zero torque (phasors): the offset removed by the conditioning"),
             slope: d.calculated_parameter("sensitivity_zero_torque", "V/(N.m)").describe("Slope of the steady characteristic du/dT at zero torque (phasors)"),
+            elements: Elements::declare(d),
         }
     }
 
@@ -543,14 +711,14 @@ impl Model for TorqueSensor {
                 der[self.flux_b] = 0.0;
             }
             Topology::ResistorAboveEachWinding => {
-                let r_b = s.r_arm_ohm;
                 der[self.flux_linkage] = 0.0;
-                der[self.flux_a] = s.winding.flux_rate_wb_per_s(op.supply - r_b * op.i_a, op.i_a);
-                der[self.flux_b] = s.winding.flux_rate_wb_per_s(op.supply - r_b * op.i_b, op.i_b);
+                der[self.flux_a] = op.flux_a_rate;
+                der[self.flux_b] = op.flux_b_rate;
             }
         }
         let i_rl = k[self.i_rl];
         der[self.i_rl] = s.rl_winding().current_rate_a_per_s(op.supply - s.r_arm_ohm * i_rl, i_rl);
+        self.report_powers(&s, &op, i_rl, der[self.i_rl], der);
         let wn = Self::filter_wn(&s);
         let (y, z) = (k[self.filter_y], k[self.filter_z]);
         der[self.filter_y] = wn * z;
@@ -601,3 +769,136 @@ impl Model for TorqueSensor {
 }
 
 fmu_runtime::export_fmu!(TorqueSensor);
+
+#[cfg(test)]
+mod power_balance {
+    use super::*;
+    use fmu_runtime::values::Values;
+    use fmu_runtime::variables::VariableTable;
+    use fmu_runtime::testing::{balance_at, set, spread};
+
+    /// Random states (fluxes, currents, twists and their rates of the magnitudes of the book's
+    /// experiment; twists within the stops, torques beyond them), inputs and times in the given
+    /// configuration: (values, states, time).
+    fn random_point(table: &VariableTable, configuration: &[(&str, f64)], next: &mut impl FnMut() -> f64) -> (Values, Vec<f64>, f64) {
+        let mut values = table.start_values();
+        for (name, v) in configuration {
+            set(table, &mut values, name, *v);
+        }
+        set(table, &mut values, "twist_in", 0.06 * (next() - 0.5));
+        set(table, &mut values, "torque_in", 16.0 * (next() - 0.5));
+        let mut states = vec![0.0; table.n_states];
+        for (name, v) in [
+            ("twist_smoothed", 0.1 * (next() - 0.5)),
+            ("twist_smoothed_z", 0.1 * (next() - 0.5)),
+            ("flux_linkage_AB", 2e-4 * (next() - 0.5)),
+            ("flux_A", 2e-7 * (next() - 0.5)),
+            ("flux_B", 2e-7 * (next() - 0.5)),
+            ("i_rl", 4e-3 * (next() - 0.5)),
+            ("filter_y", 0.2 * (next() - 0.5)),
+            ("filter_z", 0.2 * (next() - 0.5)),
+        ] {
+            states[table.state_index(table.by_name(name).unwrap()).unwrap()] = v;
+        }
+        (values, states, 0.1 * next())
+    }
+
+    /// The runtime's balance output (`power_balance_relative`: supply + driver - the
+    /// reluctances' and the R-L model's stored powers - the resistances' losses) at 50 random
+    /// states in every configuration: each integer structural parameter at each of its values
+    /// (circuits, bridge, drive, arrangement, supply, both profiles) and the imposed angle
+    /// smoothed or exact. Rounding only. And each element left out of the balance in turn shows.
+    #[test]
+    fn the_runtime_balance_holds_in_every_configuration() {
+        let (model, _, table) = fmu_runtime::model::declare::<TorqueSensor>();
+        let mut r = spread(10_000_000);
+        let mut next = move || r.next().unwrap();
+        let (mut worst, mut configurations) = (0.0f64, 0);
+        let mut missing = vec![0.0f64; table.elements.len()];
+        let mut reported = vec![false; table.elements.len()];
+        for data in [1.0, 2.0] {
+            for topology in [1.0, 2.0] {
+                for drive in [1.0, 2.0] {
+                    for arrangement in [1.0, 2.0] {
+                        for supply in [1.0, 2.0] {
+                            let mut worst_here = 0.0f64;
+                            for twist_profile in [0.0, 1.0, 2.0] {
+                                for torque_profile in [0.0, 1.0, 2.0] {
+                                    for f_crit in [50.0, 0.0] {
+                                        configurations += 1;
+                                        let configuration = [
+                                            ("sensor_data", data),
+                                            ("bridge_topology", topology),
+                                            ("twist_drive", drive),
+                                            ("arrangement", arrangement),
+                                            ("supply_mode", supply),
+                                            ("twist_profile", twist_profile),
+                                            ("torque_profile", torque_profile),
+                                            ("position_f_crit", f_crit),
+                                        ];
+                                        for _ in 0..50 {
+                                            let (values, states, t) = random_point(&table, &configuration, &mut next);
+                                            worst_here = worst_here.max(balance_at(&model, &table, t, &values, &states, &mut reported, &mut missing));
+                                        }
+                                    }
+                                }
+                            }
+                            println!(
+                                "sensor_data {data} bridge_topology {topology} twist_drive {drive} arrangement {arrangement} supply_mode {supply} \
+                                 (every profile, smoothed or exact): worst |power_balance_relative| {worst_here:.3e}"
+                            );
+                            worst = worst.max(worst_here);
+                        }
+                    }
+                }
+            }
+        }
+        println!("{configurations} configurations x 50 states: worst |power_balance_relative| {worst:.3e}");
+        assert!(worst <= 1e-12, "worst power_balance_relative {worst:.3e}");
+        for (j, e) in table.elements.iter().enumerate() {
+            if e.neglected.is_none() && e.effect.in_balance() {
+                assert!(reported[j], "{} never reported a power", e.name);
+                println!("without {}: worst |relative| {:.3e}", e.name, missing[j]);
+                assert!(missing[j] > 1e-6, "leaving {} out of the balance went unseen ({:.3e})", e.name, missing[j]);
+            }
+        }
+    }
+
+    /// What the balance leaves out, in figures: the reluctance torque on ring B, flux_B^2 / 2
+    /// |dR/dtwist|, at the book's defaults and currents of the book's experiment (|i| <= 1 mA),
+    /// and its work rate, the difference between the toothed gap's energy rate d(R flux^2 / 2)/dt
+    /// and the mmf x dflux/dt the model reports for it (twist rates up to 2 rad/s, the book's
+    /// smoothed 0.01 rad step).
+    #[test]
+    fn the_reluctance_torque_left_out_is_negligible() {
+        let (model, _, table) = fmu_runtime::model::declare::<TorqueSensor>();
+        let values = table.start_values();
+        let mut r = spread(10_000);
+        let (mut torque, mut work, mut largest) = (0.0f64, 0.0f64, 0.0f64);
+        for _ in 0..200 {
+            let mut states = vec![0.0; table.n_states];
+            let mut state = |name: &str, v: f64| states[table.state_index(table.by_name(name).unwrap()).unwrap()] = v;
+            state("twist_smoothed", 0.02 * r.next().unwrap());
+            state("twist_smoothed_z", 0.01 * (r.next().unwrap() - 0.5)); // rate 400 z rad/s
+            // |i| <= 1 mA (the book's experiment: 0.8 mA at most), linkage (L_A + L_B) i
+            let (t, i) = (0.1 * r.next().unwrap(), 2e-3 * (r.next().unwrap() - 0.5));
+            let twist = states[table.state_index(table.by_name("twist_smoothed").unwrap()).unwrap()];
+            let (l_a, l_b) = model.sensor(&Knowns::new(t, &values.known, &states, &values.integers, &values.booleans)).inductances_h(twist);
+            states[table.state_index(table.by_name("flux_linkage_AB").unwrap()).unwrap()] = (l_a + l_b) * i;
+            let k = Knowns::new(t, &values.known, &states, &values.integers, &values.booleans);
+            let s = model.sensor(&k);
+            let op = model.operating(&s, &k);
+            assert!((op.i_b - i).abs() <= 1e-12 && op.twist == twist);
+            let dr = s.teeth_sign * s.teeth.reluctance_rate_per_h_per_rad(s.teeth_sign * op.twist);
+            torque = torque.max(0.5 * op.flux_b * op.flux_b * dr.abs());
+            work = work.max((0.5 * op.flux_b * op.flux_b * dr * op.twist_rate).abs());
+            let mut powers = vec![0.0; table.elements.len()];
+            let mut der = vec![0.0; table.n_states];
+            fmu_runtime::model::evaluate_powers(&model, k.time(), &values.known, &states, &values.integers, &values.booleans, &mut der, &mut powers);
+            let supply = table.elements.iter().position(|e| e.name == "voltage_source").unwrap();
+            largest = largest.max(powers[supply].abs());
+        }
+        println!("reluctance torque on ring B <= {torque:.3e} N m (the bar: K twist ~ 1 N m); its work rate <= {work:.3e} W, {:.1e} of the supply's largest power", work / largest);
+        assert!(torque < 1e-6, "{torque:e}");
+    }
+}

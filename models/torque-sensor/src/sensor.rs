@@ -29,6 +29,16 @@ pub struct Sensor {
     pub fixed_a: Reluctance,
     /// Part B's magnetic circuit without the toothed gap.
     pub fixed_b: Reluctance,
+    /// The iron flux tubes of `fixed_a` (the book's yoke shell, its two poles and ring A; the first
+    /// set's iron path); the rest of `fixed_a` is its two radial air gaps, `air_gaps_a`. For the
+    /// power of each part only (`magnetic_powers_w`).
+    pub iron_a: Reluctance,
+    /// Part A's two radial air gaps.
+    pub air_gaps_a: Reluctance,
+    /// The iron flux tubes of `fixed_b`.
+    pub iron_b: Reluctance,
+    /// Part B's two radial air gaps.
+    pub air_gaps_b: Reluctance,
     /// One of part A's two air gaps (question 4 takes the iron as infinitely permeable).
     pub question4_gap: Reluctance,
     /// The twist-dependent air gap (question 7).
@@ -55,7 +65,40 @@ pub struct Sensor {
     pub filter_gain: f64,
 }
 
+/// The power mmf x dflux/dt flowing into each reluctance of the two magnetic circuits, W (the
+/// magnetic module's convention; for the toothed gaps, whose reluctance changes with the twist,
+/// that is the rate of their energy R flux^2 / 2 less the work of the reluctance torque, which
+/// the model leaves out).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MagneticPowers {
+    pub iron_a: f64,
+    pub air_gaps_a: f64,
+    /// 0 unless the arrangement is differential.
+    pub toothed_gap_a: f64,
+    pub iron_b: f64,
+    pub air_gaps_b: f64,
+    pub toothed_gap_b: f64,
+}
+
 impl Sensor {
+    /// Each reluctance's power mmf x dflux/dt at a twist, for the fluxes through the two
+    /// circuits and their rates (the sum over a circuit is N i dflux/dt, the winding's
+    /// magnetic-side power).
+    pub fn magnetic_powers_w(&self, twist_rad: f64, flux_a_wb: f64, flux_a_rate: f64, flux_b_wb: f64, flux_b_rate: f64) -> MagneticPowers {
+        // No flux, no power: also through a toothed gap whose teeth no longer face each other (an
+        // infinite reluctance, whose mmf R flux would be infinity x 0).
+        let power = |r: Reluctance, flux: f64, rate: f64| if flux == 0.0 { 0.0 } else { r.mmf_a(flux) * rate };
+        let toothed_gap_a = if self.differential { power(self.teeth.reluctance(-self.teeth_sign * twist_rad), flux_a_wb, flux_a_rate) } else { 0.0 };
+        MagneticPowers {
+            iron_a: power(self.iron_a, flux_a_wb, flux_a_rate),
+            air_gaps_a: power(self.air_gaps_a, flux_a_wb, flux_a_rate),
+            toothed_gap_a,
+            iron_b: power(self.iron_b, flux_b_wb, flux_b_rate),
+            air_gaps_b: power(self.air_gaps_b, flux_b_wb, flux_b_rate),
+            toothed_gap_b: power(self.teeth.reluctance(self.teeth_sign * twist_rad), flux_b_wb, flux_b_rate),
+        }
+    }
+
     /// Magnetic circuit of part A at a twist (differential: plus the toothed gap at the opposite
     /// twist).
     pub fn circuit_a(&self, twist_rad: f64) -> Reluctance {
@@ -172,6 +215,10 @@ mod tests {
             winding: Winding { turns: 1000.0, resistance_ohm: 30.0 },
             fixed_a: fixed,
             fixed_b: fixed,
+            iron_a: Reluctance::uniform(0.03, 2.0 * PI * 0.015 * 0.002, 2000.0),
+            air_gaps_a: gap.series(gap),
+            iron_b: Reluctance::uniform(0.03, 2.0 * PI * 0.015 * 0.002, 2000.0),
+            air_gaps_b: gap.series(gap),
             question4_gap: gap,
             teeth: ToothedAirGap {
                 teeth: 8.0,

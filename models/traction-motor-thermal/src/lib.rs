@@ -434,35 +434,7 @@ fmu_runtime::export_fmu!(TractionMotorThermal);
 #[cfg(test)]
 mod power_balance {
     use super::*;
-    use fmu_runtime::values::Values;
-    use fmu_runtime::variables::{Slot, VariableTable};
-
-    fn set(table: &VariableTable, values: &mut Values, name: &str, value: f64) {
-        match table.by_name(name).unwrap_or_else(|| panic!("no variable {name}")).slot {
-            Slot::Known(i) => values.known[i] = value,
-            Slot::Integer(i) => values.integers[i] = value as i32,
-            Slot::Boolean(i) => values.booleans[i] = value != 0.0,
-            other => panic!("{name}: not settable here ({other:?})"),
-        }
-    }
-
-    fn calculated(table: &VariableTable, name: &str) -> usize {
-        match table.by_name(name).unwrap_or_else(|| panic!("no variable {name}")).slot {
-            Slot::Calculated(i) => i,
-            other => panic!("{name}: {other:?}"),
-        }
-    }
-
-    /// A deterministic spread of numbers in [0, 1) (no dependency for a test).
-    fn spread(n: usize) -> impl Iterator<Item = f64> {
-        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
-        (0..n).map(move |_| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        })
-    }
+    use fmu_runtime::testing::{balance_at, set, spread};
 
     /// The runtime's balance output (`power_balance_relative`: Joule losses + cooling air - the
     /// heat capacities' C dT/dt) at random temperatures, inputs and times in every configuration
@@ -471,7 +443,6 @@ mod power_balance {
     #[test]
     fn the_runtime_balance_holds_in_every_configuration() {
         let (model, _, table) = fmu_runtime::model::declare::<TractionMotorThermal>();
-        let relative = calculated(&table, "power_balance_relative");
         let mut r = spread(1_000_000);
         let mut next = move || r.next().unwrap();
         let mut worst = 0.0f64;
@@ -497,21 +468,7 @@ mod power_balance {
                                     states[table.state_index(table.by_name(name).unwrap()).unwrap()] = v;
                                 }
                                 let t = 10_000.0 * next();
-                                let (mut der, mut calc) = (vec![0.0; table.n_states], values.calculated.clone());
-                                fmu_runtime::model::evaluate(&model, &table, t, &values.known, &states, &values.integers, &values.booleans, &mut der, &mut calc);
-                                worst_here = worst_here.max(calc[relative].abs());
-                                // The same powers with each element left out of the balance in turn.
-                                let mut powers = vec![0.0; table.elements.len()];
-                                fmu_runtime::model::evaluate_powers(&model, t, &values.known, &states, &values.integers, &values.booleans, &mut der, &mut powers);
-                                for (j, e) in table.elements.iter().enumerate() {
-                                    if e.neglected.is_some() || !e.effect.in_balance() || powers[j] == 0.0 {
-                                        continue;
-                                    }
-                                    reported[j] = true;
-                                    let mut without = powers.clone();
-                                    without[j] = 0.0;
-                                    missing[j] = missing[j].max(fmu_runtime::elements::balance(&table.elements, &without).1.abs());
-                                }
+                                worst_here = worst_here.max(balance_at(&model, &table, t, &values, &states, &mut reported, &mut missing));
                             }
                             println!("nodes {nodes} thermal_data {data} heat_source {source} initial_state {start} limit_latch {latch}: worst |power_balance_relative| {worst_here:.3e}");
                             worst = worst.max(worst_here);
