@@ -97,6 +97,102 @@ pub struct Tsit {
     quadrature: Vec<bool>,
     /// How many states the error norm averages over (the others).
     n_norm: usize,
+    /// Per quadrature state, over the last step: its index, the continuous extension's integral
+    /// of p as S(theta) = sum_j c[j] theta^(j + 1), and the zeros of p inside (0, 1), ascending.
+    quadratures: Vec<Quadrature>,
+}
+
+/// One quadrature state's integral of p over the last step, and where p changes sign in it.
+#[derive(Clone, Copy, Debug, Default)]
+struct Quadrature {
+    state: usize,
+    c: [f64; POLY],
+    zeros: [f64; 3],
+    n_zeros: usize,
+}
+
+impl Quadrature {
+    /// S(theta), the integral of p from the step's start.
+    fn integral(&self, x: f64) -> f64 {
+        self.c.iter().rev().fold(0.0, |acc, cj| (acc + cj) * x)
+    }
+
+    /// p(theta) (per unit of theta: dS/dtheta).
+    fn rate(&self, x: f64) -> f64 {
+        self.c.iter().enumerate().rev().fold(0.0, |acc, (j, cj)| acc * x + (j + 1) as f64 * cj)
+    }
+
+    /// The integral of |p| over [0, theta]: the total variation of S, split at the zeros.
+    fn variation(&self, theta: f64) -> f64 {
+        let (mut total, mut from) = (0.0, 0.0);
+        for &z in &self.zeros[..self.n_zeros] {
+            if z >= theta {
+                break;
+            }
+            total += (self.integral(z) - self.integral(from)).abs();
+            from = z;
+        }
+        total + (self.integral(theta) - self.integral(from)).abs()
+    }
+
+    /// The zeros of p inside (0, 1): p is monotone between the zeros of its derivative
+    /// 2 c1 + 6 c2 x + 12 c3 x^2; a piece whose ends differ in sign holds one, found by bisection
+    /// to rounding. The stages' signs alone do not tell: a lobe of p of the other sign can fit
+    /// between two stages (RlcCircuit's source power, u i, between the zeros of u and of i).
+    fn find_zeros(&mut self) {
+        self.n_zeros = 0;
+        if self.c.iter().all(|c| *c == 0.0) {
+            return;
+        }
+        let mut cuts = [0.0, 1.0, 1.0, 1.0];
+        let mut k = 1;
+        let (a, b, cc) = (12.0 * self.c[3], 6.0 * self.c[2], 2.0 * self.c[1]);
+        let mut critical = |x: f64| {
+            if x > 0.0 && x < 1.0 {
+                cuts[k] = x;
+                k += 1;
+            }
+        };
+        if a == 0.0 {
+            if b != 0.0 {
+                critical(-cc / b);
+            }
+        } else {
+            let disc = b * b - 4.0 * a * cc;
+            if disc >= 0.0 {
+                let q = -0.5 * (b + b.signum() * disc.sqrt());
+                critical(q / a);
+                if q != 0.0 {
+                    critical(cc / q);
+                }
+            }
+        }
+        if k == 3 && cuts[1] > cuts[2] {
+            cuts.swap(1, 2);
+        }
+        let mut p_lo = self.rate(0.0);
+        for w in 1..=k {
+            let (mut lo, mut hi) = (cuts[w - 1], cuts[w]);
+            let p_hi = self.rate(hi);
+            if (p_lo < 0.0 && p_hi > 0.0) || (p_lo > 0.0 && p_hi < 0.0) {
+                let negative_at_lo = p_lo < 0.0;
+                for _ in 0..64 {
+                    let mid = 0.5 * (lo + hi);
+                    if mid <= lo || mid >= hi {
+                        break;
+                    }
+                    if (self.rate(mid) < 0.0) == negative_at_lo {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                self.zeros[self.n_zeros] = lo;
+                self.n_zeros += 1;
+            }
+            p_lo = p_hi;
+        }
+    }
 }
 
 impl Tsit {
@@ -113,6 +209,7 @@ impl Tsit {
             y_stage: vec![0.0; n],
             quadrature: vec![false; n],
             n_norm: n,
+            quadratures: Vec::new(),
         }
     }
 
@@ -124,7 +221,26 @@ impl Tsit {
             self.quadrature[q] = true;
         }
         self.n_norm = self.quadrature.iter().filter(|q| !**q).count();
+        self.quadratures = (0..self.n).filter(|&m| self.quadrature[m]).map(|state| Quadrature { state, ..Quadrature::default() }).collect();
         self
+    }
+
+    /// Each quadrature's integral of p and the zeros of p over the last step (from its stages).
+    fn prepare_quadratures(&mut self) {
+        let (n, r) = (self.n, &self.last);
+        let dt = r.t_end - r.t_start;
+        for q in &mut self.quadratures {
+            q.c = [0.0; POLY];
+            for (i, beta) in self.k.beta.iter().enumerate() {
+                let k = r.stages[i * n + q.state];
+                if k != 0.0 {
+                    for (cj, b) in q.c.iter_mut().zip(beta) {
+                        *cj += dt * b * k;
+                    }
+                }
+            }
+            q.find_zeros();
+        }
     }
 
     /// Starts afresh at (t, y) with f(t, y) = `dy` and step size `h`: no step to interpolate in.
@@ -144,6 +260,7 @@ impl Tsit {
         self.last.clone_from(record);
         self.has_step = true;
         self.h = h;
+        self.prepare_quadratures();
     }
 
     /// f at the current point (the end of the last step).
@@ -244,78 +361,10 @@ impl Tsit {
         self.last.t_start = t;
         self.last.t_end = t_new;
         self.has_step = true;
-        for m in 0..self.n {
-            if self.quadrature[m] {
-                self.last.y_end[m] = self.last.y_start[m] + self.variation(m, 1.0);
-            }
+        self.prepare_quadratures();
+        for q in &self.quadratures {
+            self.last.y_end[q.state] = self.last.y_start[q.state] + q.variation(1.0);
         }
-    }
-
-    /// The integral of |p| from the last step's start to theta (a fraction of it), for the
-    /// quadrature state `m` whose stages hold p: the total variation over [0, theta] of the
-    /// continuous extension's integral S(theta) of p, split at the zeros of its derivative (a
-    /// cubic) inside. The stages' signs alone do not tell: a lobe of p of the other sign can fit
-    /// between two stages (RlcCircuit's source power, u i, between the zeros of u and of i).
-    fn variation(&self, m: usize, theta: f64) -> f64 {
-        let (n, r) = (self.n, &self.last);
-        // S(theta) = sum_j c[j] theta^(j + 1), p(theta) = dS/dtheta.
-        let dt = r.t_end - r.t_start;
-        let mut c = [0.0; POLY];
-        for (i, beta) in self.k.beta.iter().enumerate() {
-            let k = r.stages[i * n + m];
-            for (cj, b) in c.iter_mut().zip(beta) {
-                *cj += dt * b * k;
-            }
-        }
-        let integral = |x: f64| c.iter().rev().fold(0.0, |acc, cj| (acc + cj) * x);
-        let rate = |x: f64| c.iter().enumerate().rev().fold(0.0, |acc, (j, cj)| acc * x + (j + 1) as f64 * cj);
-        // The rate is monotone between the zeros of its derivative 2 c1 + 6 c2 x + 12 c3 x^2.
-        let mut cuts = [0.0, theta, theta, theta, theta];
-        let mut k = 1;
-        let (a, b, cc) = (12.0 * c[3], 6.0 * c[2], 2.0 * c[1]);
-        let mut critical = |x: f64| {
-            if x > 0.0 && x < theta {
-                cuts[k] = x;
-                k += 1;
-            }
-        };
-        if a == 0.0 {
-            if b != 0.0 {
-                critical(-cc / b);
-            }
-        } else {
-            let disc = b * b - 4.0 * a * cc;
-            if disc >= 0.0 {
-                let q = -0.5 * (b + b.signum() * disc.sqrt());
-                critical(q / a);
-                if q != 0.0 {
-                    critical(cc / q);
-                }
-            }
-        }
-        cuts[..=k].sort_by(f64::total_cmp);
-        let (mut total, mut from) = (0.0, 0.0);
-        for w in 1..=k {
-            let (mut lo, mut hi) = (cuts[w - 1], cuts[w]);
-            let (p_lo, p_hi) = (rate(lo), rate(hi));
-            if (p_lo < 0.0 && p_hi > 0.0) || (p_lo > 0.0 && p_hi < 0.0) {
-                // One zero of the rate in this monotone piece: bisection to rounding.
-                for _ in 0..64 {
-                    let mid = 0.5 * (lo + hi);
-                    if mid <= lo || mid >= hi {
-                        break;
-                    }
-                    if (rate(mid) < 0.0) == (p_lo < 0.0) {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                total += (integral(lo) - integral(from)).abs();
-                from = lo;
-            }
-        }
-        total + (integral(theta) - integral(from)).abs()
     }
 
     /// The state at `t` within the last step, from its continuous extension (the step's ends
@@ -348,10 +397,8 @@ impl Tsit {
                 }
             }
         }
-        for m in 0..n {
-            if self.quadrature[m] {
-                out[m] = r.y_start[m] + self.variation(m, theta);
-            }
+        for q in &self.quadratures {
+            out[q.state] = r.y_start[q.state] + q.variation(theta);
         }
     }
 }
