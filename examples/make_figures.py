@@ -26,6 +26,7 @@ SCRIPTS = [
     "tgv_thermal",
     "torque_sensor",
     "shaft_line_short_circuit",
+    "elevator_drive",
 ]
 
 

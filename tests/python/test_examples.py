@@ -46,6 +46,7 @@ OUTPUTS = {
     "tgv_thermal": ["TractionMotorThermal_heating.png"],
     "torque_sensor": ["TorqueSensor_characteristic.png"],
     "shaft_line_short_circuit": ["ShaftLine_short_circuit.png"],
+    "elevator_drive": ["ElevatorDrive_ride.png"],
 }
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 

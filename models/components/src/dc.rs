@@ -81,6 +81,7 @@ impl DcMachine {
 /// assert_eq!(chopper.supply_current_a(0.6, 50.0), 30.0);
 /// // Power in = power out (two equations of an ideal transformer, Table 3.5).
 /// assert_eq!(400.0 * chopper.supply_current_a(0.6, 50.0), chopper.output_voltage_v(0.6) * 50.0);
+/// assert_eq!(chopper.supply_power_w(0.6, 50.0), 12000.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Chopper {
@@ -88,6 +89,13 @@ pub struct Chopper {
 }
 
 impl Chopper {
+    /// Its effects (Table 3.5, the elevator of Figure 3.16.b): the DC bus it draws from, a
+    /// source ...
+    pub const SUPPLY: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Source, what: "DC bus (supply)" };
+    /// ... and the chopper itself, an ideal transformer of ratio alpha (U_out = alpha U_in,
+    /// I_in = alpha I_out).
+    pub const TRANSFORMER: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Transformer, what: "chopper (ideal transformer of ratio alpha)" };
+
     /// Mean output voltage alpha U_in, V.
     pub fn output_voltage_v(&self, duty_cycle: f64) -> f64 {
         duty_cycle * self.supply_voltage_v
@@ -96,6 +104,11 @@ impl Chopper {
     /// Mean current drawn from the supply, alpha I_out, A.
     pub fn supply_current_a(&self, duty_cycle: f64, output_current_a: f64) -> f64 {
         duty_cycle * output_current_a
+    }
+
+    /// Power the DC bus delivers, U_in alpha I_out (= U_out I_out: the chopper is lossless), W.
+    pub fn supply_power_w(&self, duty_cycle: f64, output_current_a: f64) -> f64 {
+        self.supply_voltage_v * self.supply_current_a(duty_cycle, output_current_a)
     }
 }
 

@@ -22,8 +22,9 @@
 //! assert!(dw_motor > 0.0 && dtwist > 0.0 && dw_fan > 0.0);
 //! ```
 //!
-//! Modules: [`electrical`] (R, L, C), [`mechanical`] (inertia, torsion spring and bar, reducer, cable drum,
-//! fan load), [`dc`] (the DC machine of eq. 3.9, the chopper), [`induction`] (the induction machine, circuit and dq), [`control`] (ramps, filter,
+//! Modules: [`electrical`] (R, L, C), [`mechanical`] (inertia, torsion spring and bar, reducer, worm gear, cable drum,
+//! fan load), [`translational`] (mass, spring, damper, sliding friction, rack and pinion, lever), [`geometry`] (Table 3.2: parameters
+//! from dimensions and materials, eqs. 3.1-3.2), [`dc`] (the DC machine of eq. 3.9, the chopper), [`induction`] (the induction machine, circuit and dq), [`control`] (ramps, filter,
 //! multiplier, PI), [`sources`], [`thermal`] (nodes and conductances), [`magnetic`] (reluctances
 //! and windings), [`activity`] (eq. 3.3), [`table`] (a motor's torque-speed table), [`roots`] (bisection). Every element has an example in its documentation
 //! (`cargo doc -p components --open`).
@@ -33,6 +34,7 @@ pub mod complex;
 pub mod control;
 pub mod dc;
 pub mod electrical;
+pub mod geometry;
 pub mod induction;
 pub mod magnetic;
 pub mod mechanical;
@@ -40,13 +42,15 @@ pub mod roots;
 pub mod sources;
 pub mod table;
 pub mod thermal;
+pub mod translational;
 
 pub use control::{Multiplier, PiController, SecondOrderFilter, SpeedRamp};
 pub use dc::{Chopper, DcMachine};
 pub use electrical::{Capacitor, Inductor, Resistor};
 pub use induction::{Fluxes, InductionMachine};
 pub use magnetic::{Reluctance, RlWinding, ToothFaces, ToothedAirGap, Winding, MU_0_H_PER_M};
-pub use mechanical::{SHAFT_PORT, CableDrum, CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring};
-pub use sources::{Ramp, SineVoltage};
+pub use mechanical::{SHAFT_PORT, CableDrum, CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring, WormGear, WormGearError};
+pub use sources::{Ramp, SineVoltage, Weight};
 pub use table::{Interpolation, TorqueSpeedTable};
 pub use thermal::{ThermalConductance, ThermalNode};
+pub use translational::{Lever, Mass, RackAndPinion, SlidingFriction, TranslationalDamper, TranslationalSpring};

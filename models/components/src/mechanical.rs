@@ -106,9 +106,10 @@ impl TorsionBar {
     pub const STIFFNESS: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::StorageC, what: "torsion bar stiffness" };
 
     /// Stiffness of a round bar of a shear modulus, diameter and length: K = G pi d^4 / (32 l)
-    /// (polar moment of area pi d^4 / 32), N m/rad.
+    /// (polar moment of area pi d^4 / 32), N m/rad: eq. 3.2 with no bore, computed by
+    /// [`geometry::shaft_torsional_stiffness_n_m_per_rad`](crate::geometry::shaft_torsional_stiffness_n_m_per_rad).
     pub fn round_bar_stiffness_n_m_per_rad(shear_modulus_pa: f64, diameter_m: f64, length_m: f64) -> f64 {
-        shear_modulus_pa * std::f64::consts::PI * diameter_m.powi(4) / (32.0 * length_m)
+        crate::geometry::shaft_torsional_stiffness_n_m_per_rad(shear_modulus_pa, diameter_m, length_m)
     }
 
     /// Twist angle of the input shaft with respect to the output shaft under a torque, rad.
@@ -181,16 +182,18 @@ impl Reducer {
     /// ... and its efficiency (the loss, a dissipation; see [`loss_flowing_w`](Self::loss_flowing_w)).
     pub const EFFICIENCY: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "reducer efficiency" };
 
+    // Every law below is the worm gear's with one efficiency both ways: [`WormGear`] holds it.
+
     /// Low-side speed for a high-side speed, rad/s.
     pub fn low_speed(&self, high_speed_rad_per_s: f64) -> f64 {
-        high_speed_rad_per_s / self.ratio
+        WormGear::from(*self).low_speed(high_speed_rad_per_s)
     }
 
     /// Low-side torque delivered for a high-side torque, N m: the losses always reduce the
     /// torque on the receiving side, so eta multiplies when power flows from the high side
     /// (T w >= 0) and divides when it flows back.
     pub fn low_side_torque_n_m(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
-        self.low_side_torque_flowing_n_m(high_torque_n_m, high_torque_n_m * high_speed_rad_per_s >= 0.0)
+        WormGear::from(*self).low_side_torque_n_m(high_torque_n_m, high_speed_rad_per_s)
     }
 
     /// Low-side torque for a high-side torque with the direction of the power given (`forward`:
@@ -199,24 +202,213 @@ impl Reducer {
     /// discrete mode (see [`next_power_flow`](Self::next_power_flow)) lets the solver stop there
     /// instead of stepping across it.
     pub fn low_side_torque_flowing_n_m(&self, high_torque_n_m: f64, forward: bool) -> f64 {
-        if forward {
-            self.ratio * self.efficiency * high_torque_n_m
-        } else {
-            self.ratio * high_torque_n_m / self.efficiency
-        }
+        WormGear::from(*self).low_side_torque_flowing_n_m(high_torque_n_m, forward)
     }
 
     /// The event indicator of a power-flow mode (1: the power flows from the high side, -1: back):
     /// the power through the reducer, T w on the high side, signed to be positive while the
     /// mode holds.
     pub fn power_flow_indicator(&self, mode: i32, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
-        f64::from(mode.signum()) * high_torque_n_m * high_speed_rad_per_s
+        WormGear::from(*self).power_flow_indicator(mode, high_torque_n_m, high_speed_rad_per_s)
     }
 
     /// The power-flow mode after an event: the sign of the power P; where P is exactly zero, the
     /// sign of dP/dt (where it is heading), and where that is zero too (a drive at rest) the mode
     /// holds. The answer does not depend on the current mode when P != 0, so a repeated update
     /// settles at once.
+    pub fn next_power_flow(&self, mode: i32, power_w: f64, power_rate_w_per_s: f64) -> i32 {
+        WormGear::from(*self).next_power_flow(mode, power_w, power_rate_w_per_s)
+    }
+
+    /// High-side torque that delivers a given low-side torque, N m (the inverse of
+    /// `low_side_torque_n_m` at the same speed).
+    pub fn high_side_torque_n_m(&self, low_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+        WormGear::from(*self).high_side_torque_n_m(low_torque_n_m, high_speed_rad_per_s)
+    }
+
+    /// A low-side inertia seen from the high side, J / N^2 (eqs. 3.4-3.7).
+    pub fn referred_inertia_kg_m2(&self, low_side_inertia_kg_m2: f64) -> f64 {
+        WormGear::from(*self).referred_inertia_kg_m2(low_side_inertia_kg_m2)
+    }
+
+    /// Power lost in the gears, W (never negative).
+    pub fn loss_w(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+        WormGear::from(*self).loss_w(high_torque_n_m, high_speed_rad_per_s)
+    }
+
+    /// Power lost in the gears with the direction of the power given (as in
+    /// [`low_side_torque_flowing_n_m`](Self::low_side_torque_flowing_n_m)), W: the high side's
+    /// power minus the low side's. Never negative while `forward` agrees with the sign of the
+    /// power; a model holding the direction as a mode reports this one, which is what its
+    /// equations transmit.
+    pub fn loss_flowing_w(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64, forward: bool) -> f64 {
+        WormGear::from(*self).loss_flowing_w(high_torque_n_m, high_speed_rad_per_s, forward)
+    }
+}
+
+/// A worm gear (the column-type power steering's reducer, section 3.4.2, Figure 3.17: the
+/// assistance motor turns the worm, the wheel is keyed on the steering column): ratio
+/// N = worm speed / wheel speed (wheel teeth over worm starts), and an efficiency that depends on
+/// which side drives. `forward_efficiency` eta_f applies while the power flows from the worm
+/// (the high side, the motor) to the wheel (the low side, the column); `backward_efficiency` eta_b
+/// while the wheel drives the worm (the road's feedback turning the motor back). Sliding
+/// friction on the worm's thread makes eta_b < eta_f (see
+/// [`from_lead_and_friction_angle`](Self::from_lead_and_friction_angle)).
+///
+/// A [`Reducer`] is the case eta_f = eta_b, and uses these laws. The API is the reducer's: the
+/// direction of the power is a discrete mode (1 forward, -1 backward) with its
+/// [`power_flow_indicator`](Self::power_flow_indicator) and
+/// [`next_power_flow`](Self::next_power_flow), the torque and the loss given the direction.
+///
+/// **Self-locking.** Where eta_b <= 0 (a lead angle at or below the friction angle) the wheel
+/// cannot drive the worm at all: pushed from the wheel, the gear locks and holds any torque at
+/// rest, like a stuck [`CoulombFriction`], instead of passing a power on. That is not a power-flow
+/// direction, and the law T_low = N T_high / eta_b would create energy there, so
+/// [`new`](Self::new) and `from_lead_and_friction_angle` refuse such a gear
+/// ([`WormGearError::SelfLocking`]); a power steering's worm is made reversible on purpose (the
+/// wheels must self-centre and the driver steer with the motor off). The fields stay public,
+/// as in every component, so a struct literal is not checked.
+/// ```
+/// use components::WormGear;
+/// // 20 degrees of lead angle, steel on bronze at mu = 0.05: phi = atan(0.05) = 2.862 degrees,
+/// // eta_f = tan 20 / tan 22.862 = 0.8632, eta_b = tan 17.138 / tan 20 = 0.8472.
+/// let worm = WormGear::from_lead_and_friction_angle(16.5, 20f64.to_radians(), 0.05f64.atan()).unwrap();
+/// assert!((worm.forward_efficiency - 0.8632).abs() < 1e-4 && (worm.backward_efficiency - 0.8472).abs() < 1e-4);
+/// // The motor drives (T w > 0 on the worm): the column receives N eta_f T.
+/// assert!((worm.low_side_torque_n_m(2.0, 100.0) - 16.5 * 0.8632 * 2.0).abs() < 1e-3);
+/// // The road drives back (T w < 0 on the worm): the wheel's torque is N T / eta_b, so the worm
+/// // (the motor) receives eta_b of the wheel's power.
+/// assert!((worm.low_side_torque_n_m(-2.0, 100.0) + 16.5 * 2.0 / 0.8472).abs() < 1e-2);
+/// // A 5 degree lead at mu = 0.1 (phi = 5.71 degrees) is self-locking: refused.
+/// assert!(WormGear::from_lead_and_friction_angle(30.0, 5f64.to_radians(), 0.1f64.atan()).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WormGear {
+    /// N = worm (high side) speed / wheel (low side) speed.
+    pub ratio: f64,
+    /// eta_f, power flowing from the worm to the wheel, in (0, 1].
+    pub forward_efficiency: f64,
+    /// eta_b, power flowing from the wheel back to the worm, in (0, 1] (<= 0: self-locking).
+    pub backward_efficiency: f64,
+}
+
+/// Why [`WormGear::new`] refuses a gear.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WormGearError {
+    /// eta_b <= 0: the wheel cannot drive the worm (see [`WormGear`]).
+    SelfLocking { backward_efficiency: f64 },
+    /// A ratio that is not positive and finite, or an efficiency outside (0, 1].
+    OutOfRange { what: &'static str, value: f64 },
+}
+
+impl std::fmt::Display for WormGearError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            WormGearError::SelfLocking { backward_efficiency } => write!(
+                f,
+                "self-locking worm gear (backward efficiency {backward_efficiency} <= 0): the wheel cannot drive the worm, which the power-flow modes do not model"
+            ),
+            WormGearError::OutOfRange { what, value } => write!(f, "worm gear {what} {value} out of range"),
+        }
+    }
+}
+
+impl std::error::Error for WormGearError {}
+
+impl From<Reducer> for WormGear {
+    /// A reducer is a worm gear with one efficiency both ways.
+    fn from(reducer: Reducer) -> Self {
+        WormGear { ratio: reducer.ratio, forward_efficiency: reducer.efficiency, backward_efficiency: reducer.efficiency }
+    }
+}
+
+impl WormGear {
+    /// Its effects (Table 3.1): the ratio (a lossless transformer) ...
+    pub const RATIO: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Transformer, what: "worm gear ratio" };
+    /// ... and its efficiencies (the loss, a dissipation; see [`loss_flowing_w`](Self::loss_flowing_w)).
+    pub const EFFICIENCY: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "worm gear efficiency (by power direction)" };
+
+    /// A checked worm gear: the ratio positive and finite, both efficiencies in (0, 1]; a
+    /// backward efficiency <= 0 is [`WormGearError::SelfLocking`].
+    pub fn new(ratio: f64, forward_efficiency: f64, backward_efficiency: f64) -> Result<Self, WormGearError> {
+        let in_unit = |e: f64| e > 0.0 && e <= 1.0;
+        if !(ratio > 0.0 && ratio.is_finite()) {
+            Err(WormGearError::OutOfRange { what: "ratio", value: ratio })
+        } else if !in_unit(forward_efficiency) {
+            Err(WormGearError::OutOfRange { what: "forward efficiency", value: forward_efficiency })
+        } else if backward_efficiency <= 0.0 {
+            Err(WormGearError::SelfLocking { backward_efficiency })
+        } else if !in_unit(backward_efficiency) {
+            Err(WormGearError::OutOfRange { what: "backward efficiency", value: backward_efficiency })
+        } else {
+            Ok(WormGear { ratio, forward_efficiency, backward_efficiency })
+        }
+    }
+
+    /// The classical efficiencies of a worm from its lead angle lambda (of the thread on the
+    /// worm's pitch cylinder) and the friction angle phi of the flanks (see
+    /// [`friction_angle_rad`](Self::friction_angle_rad)), as for a screw: the worm driving,
+    /// eta_f = tan(lambda) / tan(lambda + phi); the wheel driving, eta_b = tan(lambda - phi) /
+    /// tan(lambda), negative (self-locking, refused) when lambda < phi. With phi = 0 both are 1.
+    /// ```
+    /// use components::WormGear;
+    /// // lambda = 30 degrees, phi = 5 degrees: eta_f = 0.57735 / 0.70021 = 0.82454,
+    /// // eta_b = 0.46631 / 0.57735 = 0.80767.
+    /// let worm = WormGear::from_lead_and_friction_angle(20.0, 30f64.to_radians(), 5f64.to_radians()).unwrap();
+    /// assert!((worm.forward_efficiency - 0.82454).abs() < 1e-5);
+    /// assert!((worm.backward_efficiency - 0.80767).abs() < 1e-5);
+    /// ```
+    pub fn from_lead_and_friction_angle(ratio: f64, lead_angle_rad: f64, friction_angle_rad: f64) -> Result<Self, WormGearError> {
+        let forward = lead_angle_rad.tan() / (lead_angle_rad + friction_angle_rad).tan();
+        let backward = (lead_angle_rad - friction_angle_rad).tan() / lead_angle_rad.tan();
+        Self::new(ratio, forward, backward)
+    }
+
+    /// The friction angle of the flanks for a friction coefficient mu and the thread's normal
+    /// pressure angle alpha_n: phi = atan(mu / cos alpha_n), rad (the wedge of the thread raises
+    /// the normal force; alpha_n = 0 gives atan(mu)). Data sheets give mu (0.02-0.1 for steel on
+    /// bronze, falling with the sliding speed) and alpha_n (typically 20 degrees).
+    /// ```
+    /// use components::WormGear;
+    /// assert!((WormGear::friction_angle_rad(0.05, 0.0) - 0.05f64.atan()).abs() < 1e-15);
+    /// // mu = 0.05, alpha_n = 20 degrees: atan(0.05 / 0.93969) = 3.046 degrees.
+    /// assert!((WormGear::friction_angle_rad(0.05, 20f64.to_radians()).to_degrees() - 3.046).abs() < 1e-3);
+    /// ```
+    pub fn friction_angle_rad(friction_coefficient: f64, normal_pressure_angle_rad: f64) -> f64 {
+        (friction_coefficient / normal_pressure_angle_rad.cos()).atan()
+    }
+
+    /// Wheel (low-side) speed for a worm (high-side) speed, rad/s.
+    pub fn low_speed(&self, high_speed_rad_per_s: f64) -> f64 {
+        high_speed_rad_per_s / self.ratio
+    }
+
+    /// Wheel torque delivered for a worm torque, N m, the direction of the power from the sign
+    /// of T w on the worm (as [`Reducer::low_side_torque_n_m`]).
+    pub fn low_side_torque_n_m(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+        self.low_side_torque_flowing_n_m(high_torque_n_m, high_torque_n_m * high_speed_rad_per_s >= 0.0)
+    }
+
+    /// Wheel torque for a worm torque with the direction of the power given, N m: N eta_f T
+    /// forward (`forward`: from the worm to the wheel), N T / eta_b backward (the worm then
+    /// receives eta_b of the wheel's power).
+    pub fn low_side_torque_flowing_n_m(&self, high_torque_n_m: f64, forward: bool) -> f64 {
+        if forward {
+            self.ratio * self.forward_efficiency * high_torque_n_m
+        } else {
+            self.ratio * high_torque_n_m / self.backward_efficiency
+        }
+    }
+
+    /// The event indicator of a power-flow mode (1: the power flows from the worm, -1: back):
+    /// T w on the worm, signed to be positive while the mode holds.
+    pub fn power_flow_indicator(&self, mode: i32, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+        f64::from(mode.signum()) * high_torque_n_m * high_speed_rad_per_s
+    }
+
+    /// The power-flow mode after an event: the sign of the power P; where P is exactly zero, the
+    /// sign of dP/dt, and where that is zero too the mode holds (as
+    /// [`Reducer::next_power_flow`]).
     pub fn next_power_flow(&self, mode: i32, power_w: f64, power_rate_w_per_s: f64) -> i32 {
         if power_w != 0.0 {
             power_w.signum() as i32
@@ -227,33 +419,31 @@ impl Reducer {
         }
     }
 
-    /// High-side torque that delivers a given low-side torque, N m (the inverse of
+    /// Worm torque that delivers a given wheel torque at a worm speed, N m (the inverse of
     /// `low_side_torque_n_m` at the same speed).
     pub fn high_side_torque_n_m(&self, low_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
         if low_torque_n_m * high_speed_rad_per_s >= 0.0 {
-            low_torque_n_m / (self.ratio * self.efficiency)
+            low_torque_n_m / (self.ratio * self.forward_efficiency)
         } else {
-            low_torque_n_m * self.efficiency / self.ratio
+            low_torque_n_m * self.backward_efficiency / self.ratio
         }
     }
 
-    /// A low-side inertia seen from the high side, J / N^2 (eqs. 3.4-3.7).
+    /// A wheel-side inertia seen from the worm, J / N^2 (eqs. 3.4-3.7).
     pub fn referred_inertia_kg_m2(&self, low_side_inertia_kg_m2: f64) -> f64 {
         low_side_inertia_kg_m2 / (self.ratio * self.ratio)
     }
 
-    /// Power lost in the gears, W (never negative).
+    /// Power lost in the gear, W (never negative).
     pub fn loss_w(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
         let p_high = high_torque_n_m * high_speed_rad_per_s;
         let p_low = self.low_side_torque_n_m(high_torque_n_m, high_speed_rad_per_s) * self.low_speed(high_speed_rad_per_s);
         (p_high - p_low).abs()
     }
 
-    /// Power lost in the gears with the direction of the power given (as in
-    /// [`low_side_torque_flowing_n_m`](Self::low_side_torque_flowing_n_m)), W: the high side's
-    /// power minus the low side's. Never negative while `forward` agrees with the sign of the
-    /// power; a model holding the direction as a mode reports this one, which is what its
-    /// equations transmit.
+    /// Power lost with the direction of the power given, the worm's power minus the wheel's, W:
+    /// (1 - eta_f) T w forward, (1 - 1/eta_b) T w backward (T w < 0 there). Never negative while
+    /// `forward` agrees with the sign of the power (as [`Reducer::loss_flowing_w`]).
     pub fn loss_flowing_w(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64, forward: bool) -> f64 {
         high_torque_n_m * high_speed_rad_per_s - self.low_side_torque_flowing_n_m(high_torque_n_m, forward) * self.low_speed(high_speed_rad_per_s)
     }
@@ -313,7 +503,8 @@ pub type PropellerLoad = FanLoad;
 /// -T_c in the direction of slip; while it sticks the body stands still and the friction takes
 /// whatever torque holding it requires, up to T_s. The direction is a discrete mode (1 forwards,
 /// 0 stuck, -1 backwards), so the equations stay smooth between events and never chatter on
-/// sign(w).
+/// sign(w). The mode logic knows no units (an effort and a flow): the translational
+/// [`SlidingFriction`](crate::translational::SlidingFriction) runs on it with forces and velocities.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CoulombFriction {
     /// T_c, N m: the torque while slipping.
@@ -453,6 +644,83 @@ mod tests {
             assert_eq!(r.next_power_flow(mode, 0.0, 2.0), 1);
             assert_eq!(r.next_power_flow(mode, 0.0, 0.0), mode, "at rest the mode holds");
         }
+    }
+
+    #[test]
+    fn a_reducer_is_a_worm_gear_with_one_efficiency_both_ways() {
+        let r = Reducer { ratio: 16.0, efficiency: 0.94 };
+        let w = WormGear::from(r);
+        for (t, s) in [(100.0, 150.0), (-100.0, 150.0), (100.0, -150.0), (-50.0, -10.0), (0.0, 3.0)] {
+            assert_eq!(r.low_side_torque_n_m(t, s), w.low_side_torque_n_m(t, s));
+            assert_eq!(r.high_side_torque_n_m(t, s), w.high_side_torque_n_m(t, s));
+            assert_eq!(r.loss_w(t, s), w.loss_w(t, s));
+            assert_eq!(r.loss_flowing_w(t, s, false), w.loss_flowing_w(t, s, false));
+            assert_eq!(r.power_flow_indicator(-1, t, s), w.power_flow_indicator(-1, t, s));
+            // The reducer's own formulas, as they stood before the worm gear held them.
+            assert_eq!(r.low_side_torque_flowing_n_m(t, true), r.ratio * r.efficiency * t);
+            assert_eq!(r.low_side_torque_flowing_n_m(t, false), r.ratio * t / r.efficiency);
+        }
+        assert_eq!(r.referred_inertia_kg_m2(3000.0), 3000.0 / 256.0);
+    }
+
+    #[test]
+    fn a_worm_gear_loses_power_both_ways_and_passes_eta_of_it() {
+        let worm = WormGear::new(16.5, 0.86, 0.72).unwrap();
+        for (t, s) in [(2.0, 100.0), (-2.0, 100.0), (2.0, -100.0), (-3.0, -40.0)] {
+            let forward = t * s >= 0.0;
+            let mode = worm.next_power_flow(-1, t * s, 0.0);
+            assert_eq!(mode > 0, forward);
+            assert!(worm.power_flow_indicator(mode, t, s) > 0.0);
+            let loss = worm.loss_flowing_w(t, s, forward);
+            assert!(loss > 0.0 && (loss - worm.loss_w(t, s)).abs() < 1e-12);
+            // Power on each side: the receiving side gets eta of what the driving side gives.
+            let (p_worm, p_wheel) = (t * s, worm.low_side_torque_n_m(t, s) * worm.low_speed(s));
+            if forward {
+                assert!((p_wheel - 0.86 * p_worm).abs() < 1e-12);
+            } else {
+                assert!((p_worm - 0.72 * p_wheel).abs() < 1e-12);
+            }
+            let t_low = worm.low_side_torque_n_m(t, s);
+            assert!((worm.high_side_torque_n_m(t_low, s) - t).abs() < 1e-12);
+        }
+        // Forward: 14 % of 200 W lost; backward, the wheel gives 200 / 0.72 W for the worm's 200 W.
+        assert!((worm.loss_w(2.0, 100.0) - 28.0).abs() < 1e-12);
+        assert!((worm.loss_w(-2.0, 100.0) - (200.0 / 0.72 - 200.0)).abs() < 1e-12);
+        assert_eq!(worm.referred_inertia_kg_m2(16.5 * 16.5), 1.0);
+    }
+
+    #[test]
+    fn the_lead_angle_formula_has_the_right_limits() {
+        use std::f64::consts::FRAC_PI_4;
+        // No friction: a perfect gear both ways, whatever the lead.
+        for lead in [5f64, 20.0, 40.0] {
+            let w = WormGear::from_lead_and_friction_angle(10.0, lead.to_radians(), 0.0).unwrap();
+            assert!((w.forward_efficiency - 1.0).abs() < 1e-15 && (w.backward_efficiency - 1.0).abs() < 1e-15);
+        }
+        // With friction the wheel drives back less well than the worm drives forward, and both
+        // improve with the lead angle up to the forward optimum at lambda = 45 deg - phi / 2.
+        let phi = 0.06f64.atan();
+        let eta = |lead: f64| WormGear::from_lead_and_friction_angle(10.0, lead, phi).unwrap();
+        for lead in [10f64, 20.0, 30.0] {
+            let w = eta(lead.to_radians());
+            assert!(w.backward_efficiency < w.forward_efficiency && w.forward_efficiency < 1.0);
+            assert!(eta((lead + 1.0).to_radians()).backward_efficiency > w.backward_efficiency);
+        }
+        let best = FRAC_PI_4 - phi / 2.0;
+        let at = |lead: f64| eta(lead).forward_efficiency;
+        assert!(at(best) > at(best - 1e-3) && at(best) > at(best + 1e-3));
+        // At the optimum eta_f = (1 - sin phi) / (1 + sin phi) (tan^2 of best).
+        assert!((at(best) - (1.0 - phi.sin()) / (1.0 + phi.sin())).abs() < 1e-12);
+        // Self-locking where lambda <= phi: eta_b <= 0, refused.
+        match WormGear::from_lead_and_friction_angle(40.0, phi, phi) {
+            Err(WormGearError::SelfLocking { backward_efficiency }) => assert!(backward_efficiency.abs() < 1e-15),
+            other => panic!("{other:?}"),
+        }
+        assert!(matches!(WormGear::from_lead_and_friction_angle(40.0, phi / 2.0, phi), Err(WormGearError::SelfLocking { .. })));
+        assert!(matches!(WormGear::new(0.0, 0.9, 0.8), Err(WormGearError::OutOfRange { what: "ratio", .. })));
+        assert!(matches!(WormGear::new(10.0, 1.2, 0.8), Err(WormGearError::OutOfRange { what: "forward efficiency", .. })));
+        assert!(matches!(WormGear::new(10.0, 0.9, 1.5), Err(WormGearError::OutOfRange { what: "backward efficiency", .. })));
+        assert!(WormGear::new(10.0, 0.9, -0.1).unwrap_err().to_string().contains("self-locking"));
     }
 
     #[test]

@@ -29,6 +29,38 @@ impl SineVoltage {
     }
 }
 
+/// The weight of a mass in standard gravity: a constant force m g pointing down, a source in
+/// translation (the elevator's cabin against its counterweight, Figure 3.16.b: the difference of
+/// their masses hangs on the drum). It delivers power while the mass goes down and takes it while
+/// the mass is lifted (its potential energy, counted here as the source's negative power).
+/// ```
+/// use components::Weight;
+/// let unbalance = Weight { mass_kg: 200.0 }; // a 1200 kg cabin against a 1000 kg counterweight
+/// assert!((unbalance.force_n() - 1961.33).abs() < 1e-9); // m g, g = 9.80665 m/s2
+/// assert!((unbalance.power_w(0.5) + 980.665).abs() < 1e-9); // lifting at 0.5 m/s takes m g v
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Weight {
+    pub mass_kg: f64,
+}
+
+impl Weight {
+    /// Standard gravity g_n (the conventional value, ISO 80000-3), m/s2.
+    pub const STANDARD_GRAVITY_M_PER_S2: f64 = 9.80665;
+    /// Its effect (Table 3.1): a source in translation (gravity).
+    pub const GRAVITY: Effect = Effect { domains: &[Domain::Translational], kind: Kind::Source, what: "weight (gravity)" };
+
+    /// The downward force m g, N.
+    pub fn force_n(&self) -> f64 {
+        self.mass_kg * Self::STANDARD_GRAVITY_M_PER_S2
+    }
+
+    /// Power the weight delivers while the mass moves up at `upward_speed_m_per_s`, -m g v, W.
+    pub fn power_w(&self, upward_speed_m_per_s: f64) -> f64 {
+        -self.force_n() * upward_speed_m_per_s
+    }
+}
+
 /// A ramp of `height` starting at `start_s` and lasting `duration_s` (a step when the duration
 /// is 0): the built-in test signals of the models (a torque step or ramp).
 /// ```
