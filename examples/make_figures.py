@@ -27,6 +27,8 @@ SCRIPTS = [
     "torque_sensor",
     "shaft_line_short_circuit",
     "elevator_drive",
+    "power_steering",
+    "eha_flight_control",
 ]
 
 

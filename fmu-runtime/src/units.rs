@@ -60,6 +60,9 @@ const KNOWN: &[(&str, BaseUnit)] = &[
     ("K.s", BaseUnit::new(0, 0, 1, 0, 1, 0)),
     ("N", BaseUnit::new(1, 1, -2, 0, 0, 0)),
     ("Pa", BaseUnit::new(1, -1, -2, 0, 0, 0)),
+    ("N/m", BaseUnit::new(1, 0, -2, 0, 0, 0)),
+    ("N.s/m", BaseUnit::new(1, 0, -1, 0, 0, 0)),
+    ("A.s", BaseUnit::new(0, 0, 1, 1, 0, 0)),
     ("N.m", BaseUnit::new(1, 2, -2, 0, 0, 0)),
     ("N.m/s", BaseUnit::new(1, 2, -3, 0, 0, 0)),
     ("N.m/s2", BaseUnit::new(1, 2, -4, 0, 0, 0)),
@@ -74,6 +77,10 @@ const KNOWN: &[(&str, BaseUnit)] = &[
     ("J.s", BaseUnit::new(1, 2, -1, 0, 0, 0)),
     ("H-1", BaseUnit::new(-1, -2, 2, 2, 0, 0)),
     ("V/(N.m)", BaseUnit::new(0, 0, -1, -1, 0, 0)),
+    ("m3", BaseUnit::new(0, 3, 0, 0, 0, 0)),
+    ("m3/rad", BaseUnit::new(0, 3, 0, 0, 0, -1)),
+    ("Pa.s/m3", BaseUnit::new(1, -4, -1, 0, 0, 0)),
+    ("V/rad", BaseUnit::new(1, 2, -3, -1, 0, -1)),
 ];
 
 /// The base-unit exponents of a unit name: a known unit, or a known unit followed by "/s"

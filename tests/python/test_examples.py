@@ -47,6 +47,8 @@ OUTPUTS = {
     "torque_sensor": ["TorqueSensor_characteristic.png"],
     "shaft_line_short_circuit": ["ShaftLine_short_circuit.png"],
     "elevator_drive": ["ElevatorDrive_ride.png"],
+    "power_steering": ["PowerSteering_parking.png"],
+    "eha_flight_control": ["EhaFlightControl_levels.png"],
 }
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 

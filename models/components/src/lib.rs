@@ -24,7 +24,7 @@
 //!
 //! Modules: [`electrical`] (R, L, C), [`mechanical`] (inertia, torsion spring and bar, reducer, worm gear, cable drum,
 //! fan load), [`translational`] (mass, spring, damper, sliding friction, rack and pinion, lever), [`geometry`] (Table 3.2: parameters
-//! from dimensions and materials, eqs. 3.1-3.2), [`dc`] (the DC machine of eq. 3.9, the chopper), [`induction`] (the induction machine, circuit and dq), [`control`] (ramps, filter,
+//! from dimensions and materials, eqs. 3.1-3.2), [`hydraulic`] (pump and motor, cylinder, oil volume, leakage, orifice), [`dc`] (the DC machine of eq. 3.9, the chopper), [`induction`] (the induction machine, circuit and dq), [`control`] (ramps, filter,
 //! multiplier, PI), [`sources`], [`thermal`] (nodes and conductances), [`magnetic`] (reluctances
 //! and windings), [`activity`] (eq. 3.3), [`table`] (a motor's torque-speed table), [`roots`] (bisection). Every element has an example in its documentation
 //! (`cargo doc -p components --open`).
@@ -35,6 +35,7 @@ pub mod control;
 pub mod dc;
 pub mod electrical;
 pub mod geometry;
+pub mod hydraulic;
 pub mod induction;
 pub mod magnetic;
 pub mod mechanical;
@@ -47,9 +48,10 @@ pub mod translational;
 pub use control::{Multiplier, PiController, SecondOrderFilter, SpeedRamp};
 pub use dc::{Chopper, DcMachine};
 pub use electrical::{Capacitor, Inductor, Resistor};
+pub use hydraulic::{DoubleActingCylinder, FixedDisplacementMotor, FixedDisplacementPump, FluidVolume, LaminarLeakage, Orifice};
 pub use induction::{Fluxes, InductionMachine};
 pub use magnetic::{Reluctance, RlWinding, ToothFaces, ToothedAirGap, Winding, MU_0_H_PER_M};
-pub use mechanical::{SHAFT_PORT, CableDrum, CoulombFriction, FanLoad, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring, WormGear, WormGearError};
+pub use mechanical::{SHAFT_PORT, CableDrum, CoulombFriction, FanLoad, GearMode, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring, WormGear, WormGearError};
 pub use sources::{Ramp, SineVoltage, Weight};
 pub use table::{Interpolation, TorqueSpeedTable};
 pub use thermal::{ThermalConductance, ThermalNode};

@@ -301,6 +301,105 @@ pub enum WormGearError {
     OutOfRange { what: &'static str, value: f64 },
 }
 
+/// The discrete state of a lossy gear with dry friction (a [`WormGear`] or a [`Reducer`] whose
+/// shafts also rub): 0 at rest, held by its friction; otherwise the sign is the direction of
+/// motion of the high side and the magnitude says which way the power flows, 1 forwards (from the
+/// high side), 2 backwards. As long as the gear moves, its torque ratio follows the power's
+/// direction; at rest it holds every torque ratio between its two efficiencies (and the dry
+/// friction on top), like a stuck [`CoulombFriction`], which is what keeps a lossy gear from
+/// chattering between its two directions where its speed reverses (Modelica's `LossyGear` has
+/// the same modes).
+/// ```
+/// use components::GearMode;
+/// assert_eq!(GearMode::of(-1.0, false), -2);
+/// assert_eq!((GearMode::direction(-2), GearMode::forward(-2)), (-1.0, false));
+/// // Moving forwards with the power forwards: the mode holds while both stay so.
+/// assert!(GearMode::moving_margin(1, 3.0, 0.5) > 0.0);
+/// assert!(GearMode::moving_margin(1, 3.0, -0.5) < 0.0); // the torque reversed: the power flows back
+/// assert!(GearMode::moving_margin(1, -1e-3, 0.5) < 0.0); // the motion reversed
+/// ```
+pub struct GearMode;
+
+impl GearMode {
+    /// At rest, held by the friction.
+    pub const STUCK: i32 = 0;
+    /// The four moving modes, in the order a breakaway tries them.
+    pub const MOVING: [i32; 4] = [1, -1, 2, -2];
+
+    /// The mode moving in `direction` (its sign) with the power flowing forwards or back.
+    pub fn of(direction: f64, forward: bool) -> i32 {
+        let magnitude = if forward { 1 } else { 2 };
+        if direction < 0.0 {
+            -magnitude
+        } else {
+            magnitude
+        }
+    }
+
+    /// The direction of motion: 1, -1, or 0 at rest.
+    pub fn direction(mode: i32) -> f64 {
+        f64::from(mode.signum())
+    }
+
+    /// Whether the power flows forwards (from the high side) in a moving mode.
+    pub fn forward(mode: i32) -> bool {
+        mode.abs() != 2
+    }
+
+    /// The event indicator of a moving mode: positive while the high side's speed keeps the
+    /// mode's direction and its torque the power's direction (the smaller of the two margins,
+    /// each in its own unit: only its sign and its zero matter).
+    pub fn moving_margin(mode: i32, high_speed: f64, high_torque: f64) -> f64 {
+        let s = Self::direction(mode);
+        let d = if Self::forward(mode) { 1.0 } else { -1.0 };
+        (s * high_speed).min(d * s * high_torque)
+    }
+
+    /// At rest, how consistently a moving mode would start: positive when its own equations
+    /// accelerate the high side in its direction with the power in its direction.
+    pub fn breakaway_margin(mode: i32, high_acceleration: f64, high_torque: f64) -> f64 {
+        Self::moving_margin(mode, high_acceleration, high_torque)
+    }
+
+    /// The mode after an event. Moving (|speed| above `standstill`): the direction of the speed
+    /// and the power's direction from the torque's sign (held where the torque is exactly 0).
+    /// At rest: stuck exactly while its indicator [`stuck_margin`](Self::stuck_margin) is
+    /// positive (every moving mode's [`breakaway_margin`](Self::breakaway_margin) negative;
+    /// `start(mode)` gives that mode's high-side acceleration and torque), else the moving mode
+    /// with the largest margin, so the update always agrees with the crossing that triggered it,
+    /// even where the located point has the indicator at 0. Returns the mode and whether the
+    /// speed must be set to exactly 0.
+    pub fn next(mode: i32, high_speed: f64, high_torque: f64, standstill: f64, start: impl Fn(i32) -> (f64, f64)) -> (i32, bool) {
+        if high_speed.abs() > standstill {
+            let s = high_speed.signum();
+            let forward = if high_torque == 0.0 && mode != Self::STUCK { Self::forward(mode) } else { s * high_torque >= 0.0 };
+            return (Self::of(s, forward), false);
+        }
+        let (best, margin) = Self::best_breakaway(start);
+        if margin < 0.0 {
+            (Self::STUCK, high_speed != 0.0)
+        } else {
+            (best, false)
+        }
+    }
+
+    /// The moving mode that would start most consistently from rest, and its margin.
+    fn best_breakaway(start: impl Fn(i32) -> (f64, f64)) -> (i32, f64) {
+        Self::MOVING
+            .into_iter()
+            .map(|m| {
+                let (acceleration, torque) = start(m);
+                (m, Self::breakaway_margin(m, acceleration, torque))
+            })
+            .fold((Self::STUCK, f64::NEG_INFINITY), |best, candidate| if candidate.1 > best.1 { candidate } else { best })
+    }
+
+    /// The event indicator at rest: positive while no moving mode would start consistently.
+    pub fn stuck_margin(start: impl Fn(i32) -> (f64, f64)) -> f64 {
+        -Self::best_breakaway(start).1
+    }
+}
+
 impl std::fmt::Display for WormGearError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -574,6 +673,47 @@ impl CoulombFriction {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A lossy gear at rest between a driving torque and a load, both at the high side: the
+    /// column of a power steering, J dw/dt = e T_drive - T_load in each moving mode (e = eta_f
+    /// forwards, 1/eta_b backwards; T_drive is also the worm's torque here, no rotor inertia).
+    fn lossy_start(drive: f64, load: f64, friction: f64) -> impl Fn(i32) -> (f64, f64) {
+        let (eta_f, eta_b) = (0.8, 0.5);
+        move |mode| {
+            let e = if GearMode::forward(mode) { eta_f } else { 1.0 / eta_b };
+            (e * drive - load - GearMode::direction(mode) * friction, drive)
+        }
+    }
+
+    #[test]
+    fn a_lossy_gear_holds_between_its_efficiencies_and_breaks_away_the_consistent_way() {
+        let standstill = 1e-9;
+        // Driving 10 against a load between eta_f 10 = 8 and 10 / eta_b = 20: it holds.
+        let held = lossy_start(10.0, 12.0, 0.0);
+        assert_eq!(GearMode::next(GearMode::STUCK, 0.0, 10.0, standstill, &held), (GearMode::STUCK, false));
+        assert!(GearMode::stuck_margin(&held) > 0.0);
+        // A load below 8: the motor drives forwards (mode 1); above 20: the load drives it back
+        // against the motor (mode -2: moving backwards, the power flowing back into the motor).
+        assert_eq!(GearMode::next(GearMode::STUCK, 0.0, 10.0, standstill, lossy_start(10.0, 5.0, 0.0)).0, 1);
+        assert_eq!(GearMode::next(GearMode::STUCK, 0.0, 10.0, standstill, lossy_start(10.0, 25.0, 0.0)).0, -2);
+        assert!(GearMode::stuck_margin(lossy_start(10.0, 25.0, 0.0)) < 0.0);
+        // No torque at all: without dry friction the band is empty (margin 0, it may start); with
+        // it, the gear holds with a positive margin (an indicator that starts positive).
+        assert_eq!(GearMode::stuck_margin(lossy_start(0.0, 0.0, 0.0)), 0.0);
+        assert!(GearMode::stuck_margin(lossy_start(0.0, 0.0, 0.5)) > 0.0);
+        // A moving gear that reaches rest where it holds is stuck, its speed reset to exactly 0.
+        assert_eq!(GearMode::next(1, 1e-12, 10.0, standstill, &held), (GearMode::STUCK, true));
+        // Moving: the direction of the speed, the power's from the torque's sign.
+        assert_eq!(GearMode::next(1, -0.3, 10.0, standstill, &held).0, -2);
+        assert_eq!(GearMode::next(2, 0.3, 10.0, standstill, &held).0, 1);
+        assert_eq!(GearMode::next(-1, -0.3, 10.0, standstill, &held).0, -2);
+        // Each moving mode holds exactly while its indicator is positive.
+        for mode in GearMode::MOVING {
+            let (s, d) = (GearMode::direction(mode), if GearMode::forward(mode) { 1.0 } else { -1.0 });
+            assert!(GearMode::moving_margin(mode, s * 0.3, d * s * 10.0) > 0.0);
+            assert_eq!(GearMode::next(mode, s * 0.3, d * s * 10.0, standstill, &held).0, mode);
+        }
+    }
 
     #[test]
     fn a_stuck_body_breaks_loose_the_way_it_is_pushed_whatever_round_off_its_speed_carries() {
