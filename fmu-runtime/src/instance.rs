@@ -612,6 +612,8 @@ impl<M: Model> Instance<M> {
         }
         let mut now = t;
         let (mut last_event, mut at_one_instant) = (f64::NEG_INFINITY, 0usize);
+        // One budget of internal steps for the whole communication step, across its events.
+        let mut budget = crate::integrate::MAX_INTERNAL_STEPS;
         // Without inputs nothing moves (the slopes are zero): no need to look.
         let motion = if self.has_inputs { InputMotion::new(slopes, curvatures, t) } else { InputMotion::still(slopes) };
         for _ in 0..MAX_EVENTS_PER_STEP {
@@ -634,7 +636,7 @@ impl<M: Model> Instance<M> {
             };
             let limit = self.experiment.stop_time.map_or(limit, |stop| limit.min(stop)).max(next);
             let knowns_set = std::mem::replace(&mut self.knowns_set, false);
-            let how = integrator.advance(&v.known, &motion, knowns_set, now, x, next, limit)?;
+            let how = integrator.advance(&v.known, &motion, knowns_set, now, x, next, limit, &mut budget)?;
             match how {
                 Advanced::Reached if next == t_end => return Ok(()),
                 Advanced::Reached => {

@@ -480,7 +480,7 @@ impl Integrator {
     /// moved along its derivatives). When not, and no input moves now or moved in the last
     /// advance, the parameter vector is that of the last advance and is not rebuilt.
     #[allow(clippy::too_many_arguments)]
-    pub fn advance(&mut self, known: &[f64], motion: &InputMotion, knowns_set: bool, t0: f64, x: &mut [f64], t1: f64, limit: f64) -> Result<Advanced, String> {
+    pub fn advance(&mut self, known: &[f64], motion: &InputMotion, knowns_set: bool, t0: f64, x: &mut [f64], t1: f64, limit: f64, budget: &mut usize) -> Result<Advanced, String> {
         if x.is_empty() {
             return Ok(Advanced::Reached);
         }
@@ -498,8 +498,8 @@ impl Integrator {
         }
         let resume = std::mem::replace(&mut self.resume, false);
         let (how, resume) = match self.method {
-            Solver::ExplicitRungeKutta => self.advance_explicit(resume, t0, x, t1, limit)?,
-            Solver::ImplicitRungeKutta => self.advance_implicit(t0, x, t1)?,
+            Solver::ExplicitRungeKutta => self.advance_explicit(resume, t0, x, t1, limit, budget)?,
+            Solver::ImplicitRungeKutta => self.advance_implicit(t0, x, t1, budget)?,
         };
         let t_reached = match how {
             Advanced::Reached => t1,
@@ -529,7 +529,7 @@ impl Integrator {
     /// starts from is in the FMU state (the instance's t and x, the step size and, when it
     /// continues, the step: [`lookahead`](Self::lookahead)), so a restored instance continues
     /// bit-identically. Returns how it ended and whether the next advance may continue.
-    fn advance_explicit(&mut self, resume: bool, t0: f64, x0: &[f64], t1: f64, limit: f64) -> Result<(Advanced, bool), String> {
+    fn advance_explicit(&mut self, resume: bool, t0: f64, x0: &[f64], t1: f64, limit: f64, budget: &mut usize) -> Result<(Advanced, bool), String> {
         // A moving input's motion is only the master's word for this communication step.
         let moving = self.p[3 * self.n_known + 1] != 0.0;
         let limit = if moving { t1 } else { limit.max(t1) };
@@ -555,7 +555,7 @@ impl Integrator {
         }
         let events = indicators.as_ref().map(|g| Events { g: &**g, p, n: *n_indicators });
         let mut f = |y: &[f64], t: f64, dy: &mut [f64]| rhs(y, p, t, dy);
-        let result = run_explicit(tsit, &mut f, events.as_ref(), t1, limit, y_end, z, z_prev, roots);
+        let result = run_explicit(tsit, &mut f, events.as_ref(), t1, limit, y_end, z, z_prev, roots, budget);
         *step_size = Some(tsit.h);
         // With moving inputs the step ends at t1 anyway; the next one restarts with the
         // master's next motion.
@@ -566,7 +566,7 @@ impl Integrator {
     /// call, with its stop time at t1. Kept alive, its Newton iteration and Jacobian would carry
     /// over from the previous step, so a restored FMU state would not continue bit-identically
     /// (and the shared design saw a kept esdirk34 fail at a stop time).
-    fn advance_implicit(&mut self, t0: f64, x0: &[f64], t1: f64) -> Result<(Advanced, bool), String> {
+    fn advance_implicit(&mut self, t0: f64, x0: &[f64], t1: f64, budget: &mut usize) -> Result<(Advanced, bool), String> {
         if t1 - t0 <= negligible_interval(t0) {
             self.euler(t0, x0, t1);
             return Ok((Advanced::Reached, false));
@@ -583,7 +583,7 @@ impl Integrator {
         let events = indicators.as_ref().map(|g| Events { g: &**g, p, n: *n_indicators });
         let buffers = Buffers { y_end, y_work, z, z_prev };
         let mut solver = problem.esdirk34_solver::<NalgebraLU<f64>>(state).map_err(|e| e.to_string())?;
-        let (h, how) = run_to(&mut solver, t0, x0, t1, events.as_ref(), buffers)?;
+        let (h, how) = run_to(&mut solver, t0, x0, t1, events.as_ref(), buffers, budget)?;
         *step_size = Some(h);
         Ok((how, false))
     }
@@ -606,6 +606,7 @@ fn run_explicit(
     z: &mut [f64],
     z_prev: &mut [f64],
     scratch: &mut RootScratch,
+    budget: &mut usize,
 ) -> Result<(Advanced, bool), String> {
     let n = tsit.last.y_end.len();
     y_end.clear();
@@ -619,7 +620,8 @@ fn run_explicit(
     if let Some(ev) = events {
         ev.into(tsit.last.t_end, &tsit.last.y_end, z_prev);
     }
-    for _ in 0..MAX_INTERNAL_STEPS {
+    while *budget > 0 {
+        *budget -= 1;
         if let Err(e) = tsit.step(limit, f) {
             return Err(format!("the ODE solver failed: {e}"));
         }
@@ -661,7 +663,7 @@ fn run_explicit(
         }
     }
     Err(format!(
-        "the ODE solver needed more than {MAX_INTERNAL_STEPS} internal steps to reach t = {t1} s \
+        "the ODE solver needed more than {MAX_INTERNAL_STEPS} internal steps in one communication step to reach t = {t1} s \
          (stopped at t = {} s); the model may be too stiff for its solver or unstable",
         tsit.last.t_end
     ))
@@ -706,7 +708,7 @@ struct Buffers<'a> {
 /// Steps a solver from (t0, x0) until its stop time `t1` or the first zero crossing of an event
 /// indicator; leaves the state there in `buffers.y_end` and returns the step size reached and
 /// how it ended.
-fn run_to<'a, S>(solver: &mut S, t0: f64, x0: &[f64], t1: f64, events: Option<&Events>, buffers: Buffers) -> Result<(f64, Advanced), String>
+fn run_to<'a, S>(solver: &mut S, t0: f64, x0: &[f64], t1: f64, events: Option<&Events>, buffers: Buffers, budget: &mut usize) -> Result<(f64, Advanced), String>
 where
     S: OdeSolverMethod<'a, Equations>,
 {
@@ -717,7 +719,8 @@ where
         ev.into(t0, x0, z_prev);
     }
     let mut t_prev = t0;
-    for _ in 0..MAX_INTERNAL_STEPS {
+    while *budget > 0 {
+        *budget -= 1;
         match solver.step() {
             Ok(reason) => {
                 let stopped = matches!(reason, OdeSolverStopReason::TstopReached);
@@ -766,7 +769,7 @@ where
         }
     }
     Err(format!(
-        "the ODE solver needed more than {MAX_INTERNAL_STEPS} internal steps to reach t = {t1} s \
+        "the ODE solver needed more than {MAX_INTERNAL_STEPS} internal steps in one communication step to reach t = {t1} s \
          (stopped at t = {} s); the model may be too stiff for its solver or unstable",
         solver.state().t
     ))

@@ -361,7 +361,7 @@ impl GearMode {
         Self::moving_margin(mode, high_acceleration, high_torque)
     }
 
-    /// The mode after an event. Moving (|speed| above `standstill`): the direction of the speed
+    /// The mode after an event. Moving (|speed| above `standstill`, in the mode's direction): the direction of the speed
     /// and the power's direction from the torque's sign (held where the torque is exactly 0).
     /// At rest: stuck exactly while its indicator [`stuck_margin`](Self::stuck_margin) is
     /// positive (every moving mode's [`breakaway_margin`](Self::breakaway_margin) negative;
@@ -370,7 +370,11 @@ impl GearMode {
     /// even where the located point has the indicator at 0. Returns the mode and whether the
     /// speed must be set to exactly 0.
     pub fn next(mode: i32, high_speed: f64, high_torque: f64, standstill: f64, start: impl Fn(i32) -> (f64, f64)) -> (i32, bool) {
-        if high_speed.abs() > standstill {
+        // A moving mode whose speed has reversed passed through rest: decided as at rest, however
+        // far past the zero the event was located (a Model Exchange master's root finder may
+        // stop further past it than `standstill`, and must see the same stop as Co-Simulation).
+        let reversed = mode != Self::STUCK && Self::direction(mode) * high_speed <= 0.0;
+        if !reversed && high_speed.abs() > standstill {
             let s = high_speed.signum();
             let forward = if high_torque == 0.0 && mode != Self::STUCK { Self::forward(mode) } else { s * high_torque >= 0.0 };
             return (Self::of(s, forward), false);
@@ -704,9 +708,13 @@ mod tests {
         // A moving gear that reaches rest where it holds is stuck, its speed reset to exactly 0.
         assert_eq!(GearMode::next(1, 1e-12, 10.0, standstill, &held), (GearMode::STUCK, true));
         // Moving: the direction of the speed, the power's from the torque's sign.
-        assert_eq!(GearMode::next(1, -0.3, 10.0, standstill, &held).0, -2);
         assert_eq!(GearMode::next(2, 0.3, 10.0, standstill, &held).0, 1);
         assert_eq!(GearMode::next(-1, -0.3, 10.0, standstill, &held).0, -2);
+        assert_eq!(GearMode::next(GearMode::STUCK, -0.3, 10.0, standstill, &held).0, -2); // a start value
+        // A speed that reversed in its mode went through rest: held there, it sticks (speed reset),
+        // however far past the zero the event was located.
+        assert_eq!(GearMode::next(1, -0.3, 10.0, standstill, &held), (GearMode::STUCK, true));
+        assert_eq!(GearMode::next(1, -0.3, 10.0, standstill, lossy_start(10.0, 25.0, 0.0)).0, -2);
         // Each moving mode holds exactly while its indicator is positive.
         for mode in GearMode::MOVING {
             let (s, d) = (GearMode::direction(mode), if GearMode::forward(mode) { 1.0 } else { -1.0 });

@@ -397,9 +397,17 @@ impl PowerSteering {
         op
     }
 
-    /// Below this column speed the worm counts as at rest, rad/s (a state event locates the
-    /// speed's zero to far better than that; a turn of the column in 2 years).
-    const WORM_STANDSTILL_RAD_PER_S: f64 = 1e-7;
+    /// Below this speed, at an event, the column (the worm) and the treads count as at rest, rad/s
+    /// (0.06 degree per second: Karnopp's stick window, D. Karnopp, "Computer simulation of
+    /// stick-slip friction in mechanical dynamic systems", J. Dyn. Sys. Meas. Control 107, 1985).
+    /// When the driver reverses, the column and the sliding treads creep to rest together (about
+    /// 0.1 rad/s2), their speeds' zeros tens of nanoseconds apart (48 ns at 12.2 s of the parking
+    /// manoeuvre): one stop, which Co-Simulation located as two events and a Model Exchange
+    /// master, whose root finder does not resolve 48 ns, as one. Whichever zero is located first
+    /// now stops both, as one event, in every master. The window must exceed the speed errors of
+    /// a master at its loosest tolerance (a strict master at rtol 1e-4 located the column's stop
+    /// 3.5 us early and the treads' 24 us after it; with a 1e-5 rad/s window it still saw two).
+    const STANDSTILL_RAD_PER_S: f64 = 1e-3;
 
     /// How a moving worm mode would start from rest: the motor side's acceleration and torque.
     fn worm_start(&self, k: &Knowns, mode: i32) -> (f64, f64) {
@@ -566,13 +574,17 @@ impl Model for PowerSteering {
     fn update_modes(&self, k: &Knowns, next: &mut ModeUpdate) {
         let p = self.parts(k);
         let torque = self.operate(k, GearMode::of(k[self.w_column], true)).worm_torque;
-        let (flow, stop) = GearMode::next(k[self.worm_flow], k[self.w_column], torque, Self::WORM_STANDSTILL_RAD_PER_S, |m| self.worm_start(k, m));
+        let (flow, stop) = GearMode::next(k[self.worm_flow], k[self.w_column], torque, Self::STANDSTILL_RAD_PER_S, |m| self.worm_start(k, m));
         next[self.worm_flow] = flow;
         if stop {
             next.reinit(self.w_column, 0.0);
         }
         let op = self.operate(k, k[self.worm_flow]);
-        let (tread, stop) = p.ground.next_mode(k[self.tread_mode], k[self.w_tread], op.tire_torque);
+        // A sliding tread slower than the standstill speed is taken as stopped (see
+        // STANDSTILL_RAD_PER_S): its speed is then reset to 0 whatever the mode after.
+        let w_tread = k[self.w_tread];
+        let creeping = k[self.tread_mode] != 0 && w_tread.abs() < Self::STANDSTILL_RAD_PER_S;
+        let (tread, stop) = p.ground.next_mode(k[self.tread_mode], if creeping { 0.0 } else { w_tread }, op.tire_torque);
         next[self.tread_mode] = tread;
         if stop {
             next.reinit(self.w_tread, 0.0);
