@@ -402,8 +402,14 @@ fn run(args: &Args) -> Result<(), String> {
 
     // 4. The other models at their defaults (the stiff ones included), and level d.
     jobs.push(job("MotorFan_d_default".into(), "defaults", &motor_fan, motor_fan_setup(4, None), false, vec![]));
-    for name in ["RlcCircuit", "TractionMotorThermal", "TorqueSensor", "ShaftLine"] {
-        let fmu = load(&dist.join(format!("{name}.fmu")))?;
+    // (The chapter FMUs added later are skipped in an older dist, so that a dist from before them
+    // can still be measured against.)
+    for name in ["RlcCircuit", "TractionMotorThermal", "TorqueSensor", "ShaftLine", "ElevatorDrive", "EhaFlightControl", "PowerSteering"] {
+        let path = dist.join(format!("{name}.fmu"));
+        if !path.is_file() && ["ElevatorDrive", "EhaFlightControl", "PowerSteering"].contains(&name) {
+            continue;
+        }
+        let fmu = load(&path)?;
         let setup = default_setup(&fmu);
         jobs.push(job(name.into(), "defaults", &fmu, setup, false, vec![]));
     }
