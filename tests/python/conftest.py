@@ -28,7 +28,8 @@ REPO_ROOT = Path(__file__).resolve().parents[2]
 DIST_DIR = Path(os.environ["FMU_DIST_DIR"]).resolve() if os.environ.get("FMU_DIST_DIR") else REPO_ROOT / "dist"
 
 # FMUs that build-fmus must produce; any other dist/*.fmu is tested by the generic tests too.
-EXPECTED_FMUS = ("RlcCircuit", "MotorFan", "TractionMotorThermal", "TorqueSensor", "ShaftLine", "ElevatorDrive", "EhaFlightControl", "PowerSteering")
+EXPECTED_FMUS = ("RlcCircuit", "MotorFan", "TractionMotorThermal", "TorqueSensor", "ShaftLine", "ElevatorDrive", "EhaFlightControl", "PowerSteering",
+                 "SteeringColumn", "AssistMotor", "SteeringRack")
 
 BUILD_HINT = "run `cargo run --release -p build-fmus` (from the repository root) to build the FMUs into dist/"
 

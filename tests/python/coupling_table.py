@@ -12,15 +12,21 @@ peak. How each master's output rows are aligned: coupled_masters.py. The Rust ma
 repository root; its table rows are merged when they have the same columns, else its output is
 printed below). Needs dist/ built (`cargo run --release -p build-fmus`) and, for ecospy, Debian's
 libtbb12 (./test.sh installs it).
+
+`measure` and `print_tables` are system-independent (they take the system's coupled and monolithic
+runners and how to turn a pair of runs into a cell); `main` is MotorFanSystem's table, the README's.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import subprocess
 import sys
 import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -36,6 +42,7 @@ def label(step: float) -> str:
 
 
 def cell(c: cm.Comparison) -> str:
+    """MotorFanSystem's cell: fan-speed error, % of rated / peak |shaft torque| error, %."""
     if not (c.fan_error_pct <= 100.0):  # also NaN
         return f"diverges ({c.fan_error_pct:.3g} / {c.peak_error_pct:+.3g})"
     return f"{c.fan_error_pct:.2f} / {c.peak_error_pct:+.2f}"
@@ -62,6 +69,85 @@ def rust_rows(columns: int) -> tuple[list[str], str]:
     return [], "Rust master (`" + " ".join(cmd) + "`), as it prints:\n\n" + proc.stdout
 
 
+# ---------------------------------------------------------------------------------------------
+# The system-independent core: run every master at every step against the monolithic reference
+
+@contextlib.contextmanager
+def stdout_to_stderr():
+    """The FMUs' and the container's log lines go to stdout at the C level: send them to stderr while
+    simulating, so that stdout is the table alone."""
+    sys.stdout.flush()
+    saved_stdout = os.dup(1)
+    os.dup2(2, 1)
+    try:
+        yield
+    finally:
+        sys.stdout.flush()
+        os.dup2(saved_stdout, 1)
+        os.close(saved_stdout)
+
+
+@dataclass
+class Measured:
+    cells: dict[tuple[str, float], str]  # (master, step) -> the evaluation's cell, or why the master failed
+    seconds: dict[tuple[str, float], str]  # (master, step) -> wall time of the simulation, s
+    windows: dict[float, float]  # step -> end of the simulated window, s
+
+
+def measure(masters: Sequence[str], steps: Sequence[float], stop_time: float, short_window: float | None,
+            coupled: Callable[[str, float, float], cm.Run], reference: Callable[[float, float], cm.Run],
+            evaluate: Callable[[cm.Run, cm.Run], tuple[str, str]]) -> Measured:
+    """coupled(master, step, stop) for every master and step (0-`short_window` s only at steps
+    below 1 ms, if given) against reference(step, stop); evaluate(run, reference) gives the cell and
+    the figures logged to stderr."""
+    m = Measured({}, {}, {})
+    for step in steps:
+        stop = stop_time
+        if short_window and step < 1e-3 - 1e-12:
+            stop = min(stop, short_window)
+        m.windows[step] = stop
+        ref = reference(step, stop)
+        for master in masters:
+            t0 = time.perf_counter()
+            try:
+                run = coupled(master, step, stop)
+            except cm.MasterFailed as e:  # e.g. an FMU refuses a step once the coupling diverges
+                m.cells[(master, step)] = str(e).splitlines()[0][:90]
+                m.seconds[(master, step)] = f"{time.perf_counter() - t0:.1f}"
+                print(f"  {master:32s} {label(step):>7s}: failed: {e}", file=sys.stderr)
+                continue
+            m.cells[(master, step)], figures = evaluate(run, ref)
+            m.seconds[(master, step)] = f"{run.seconds:.1f}"
+            print(f"  {master:32s} {label(step):>7s}: {figures}, {run.seconds:6.1f} s", file=sys.stderr)
+    return m
+
+
+def table(steps: Sequence[float], head: Callable[[float], str], rows: Sequence[tuple[str, Sequence[str]]]) -> list[str]:
+    """A Markdown table: a column per step, a row per (first cell, cells)."""
+    lines = ["| master | " + " | ".join(head(s) for s in steps) + " |", "|---" * (len(steps) + 1) + "|"]
+    return lines + [f"| {first} | " + " | ".join(cells) + " |" for first, cells in rows]
+
+
+def print_tables(m: Measured, masters: Sequence[str], steps: Sequence[float], stop_time: float,
+                 extra_rows: Sequence[str] = ()) -> None:
+    """The error table (a row per master, named by cm.SCHEMES, then `extra_rows` as they are) and
+    the wall-time table."""
+    def head(s: float) -> str:
+        return label(s) + ("" if m.windows[s] == stop_time else f" (0-{m.windows[s]:g} s)")
+
+    for line in table(steps, head, [(cm.SCHEMES.get(master, master), [m.cells.get((master, s), "-") for s in steps])
+                                    for master in masters]):
+        print(line)
+    for row in extra_rows:
+        print(row)
+    print("\nWall time of the simulation alone, s:\n")
+    for line in table(steps, head, [(master, [m.seconds.get((master, s), "-") for s in steps]) for master in masters]):
+        print(line)
+
+
+# ---------------------------------------------------------------------------------------------
+# MotorFanSystem against MotorFan.fmu
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--steps", default="1e-2,1e-3,1e-4", help="communication steps, s (comma-separated)")
@@ -80,63 +166,26 @@ def main() -> int:
         if not f.exists():
             sys.exit(f"{f} is missing: run `cargo run --release -p build-fmus` first")
 
-    # The FMUs' and the container's log lines go to stdout at the C level: send them to stderr while
-    # simulating, so that stdout is the table alone.
-    sys.stdout.flush()
-    saved_stdout = os.dup(1)
-    os.dup2(2, 1)
-    cells: dict[tuple[str, float], str] = {}
-    seconds: dict[tuple[str, float], str] = {}
-    windows: dict[float, float] = {}
     rated = None
-    for step in steps:
-        stop = args.stop_time
-        if args.short_window and step < 1e-3 - 1e-12:
-            stop = min(stop, args.short_window)
-        windows[step] = stop
-        ref = cm.monolithic(mono_fmu, step, stop)
-        for master in masters:
-            t0 = time.perf_counter()
-            try:
-                run = cm.MASTERS[master](ssp, step, stop)
-            except cm.MasterFailed as e:  # e.g. an FMU refuses a step once the coupling diverges
-                cells[(master, step)] = str(e).splitlines()[0][:90]
-                seconds[(master, step)] = f"{time.perf_counter() - t0:.1f}"
-                print(f"  {master:32s} {label(step):>7s}: failed: {e}", file=sys.stderr)
-                continue
-            c = cm.compare(run, ref)
-            rated = rated or c.rated
-            cells[(master, step)] = cell(c)
-            seconds[(master, step)] = f"{run.seconds:.1f}"
-            print(f"  {master:32s} {label(step):>7s}: fan {c.fan_error_pct:8.3f} % at {c.worst_time:6.3f} s, "
-                  f"peak {c.peak:7.1f} vs {c.peak_reference:7.1f} N m ({c.peak_error_pct:+7.2f} %), "
-                  f"{run.seconds:6.1f} s", file=sys.stderr)
 
-    sys.stdout.flush()
-    os.dup2(saved_stdout, 1)
-    os.close(saved_stdout)
+    def evaluate(run: cm.Run, ref: cm.Run) -> tuple[str, str]:
+        nonlocal rated
+        c = cm.compare(run, ref)
+        rated = rated or c.rated
+        return cell(c), (f"fan {c.fan_error_pct:8.3f} % at {c.worst_time:6.3f} s, "
+                         f"peak {c.peak:7.1f} vs {c.peak_reference:7.1f} N m ({c.peak_error_pct:+7.2f} %)")
 
-    def head(s: float) -> str:
-        return label(s) + ("" if windows[s] == args.stop_time else f" (0-{windows[s]:g} s)")
+    with stdout_to_stderr():
+        m = measure(masters, steps, args.stop_time, args.short_window,
+                    lambda master, step, stop: cm.motor_fan_coupled(master, ssp, step, stop),
+                    lambda step, stop: cm.motor_fan_reference(mono_fmu, step, stop), evaluate)
 
-    header = "| master | " + " | ".join(head(s) for s in steps) + " |"
-    rule = "|---" * (len(steps) + 1) + "|"
     print(f"MotorFanSystem, direct-on-line start, 0-{args.stop_time:g} s, against MotorFan.fmu (level c) "
           f"at the same communication step.")
     print(f"Each cell: max fan-speed error, % of rated ({rated:.3f} rad/s) / peak |shaft torque| error, %. "
           f"Acceptance at 1 ms: 0.5 % / 3 %.\n")
-    print(header)
-    print(rule)
-    for master in masters:
-        print(f"| {cm.SCHEMES.get(master, master)} | " + " | ".join(cells.get((master, s), "-") for s in steps) + " |")
     merged, below = ([], "") if args.no_rust else rust_rows(len(steps) + 1)
-    for row in merged:
-        print(row)
-    print("\nWall time of the simulation alone, s:\n")
-    print(header)
-    print(rule)
-    for master in masters:
-        print(f"| {master} | " + " | ".join(seconds.get((master, s), "-") for s in steps) + " |")
+    print_tables(m, masters, steps, args.stop_time, merged)
     if below:
         print("\n" + below)
     return 0

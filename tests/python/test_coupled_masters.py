@@ -53,17 +53,20 @@ def require_ssp():
 
 @functools.cache
 def reference() -> cm.Run:
-    return cm.monolithic(require_fmu(DIST_DIR / "MotorFan.fmu"), STEP, STOP_TIME)
+    """MotorFan.fmu, level=3, start_mode=1, keyed like the coupled runs (cm.MOTOR_FAN_OUTPUTS)."""
+    return cm.motor_fan_reference(require_fmu(DIST_DIR / "MotorFan.fmu"), STEP, STOP_TIME)
 
 
 @functools.cache
 def coupled(master: str) -> cm.Run:
+    """The fan speed and the shaft torque (cm.MOTOR_FAN_SIGNALS) from one master; the sequential
+    container steps the components in cm.MOTOR_FAN_ORDER."""
     if master == "ecospy":
         try:
             import ecospy  # noqa: F401
         except OSError as e:  # libtbb.so.12 missing
             pytest.fail(f"ecospy cannot load its library ({e}): ./test.sh installs Debian's libtbb12", pytrace=False)
-    return cm.MASTERS[master](require_ssp(), STEP, STOP_TIME)
+    return cm.motor_fan_coupled(master, require_ssp(), STEP, STOP_TIME)
 
 
 def test_the_ssp_is_ssp_1_0_with_the_spec_connections():

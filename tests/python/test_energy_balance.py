@@ -59,7 +59,12 @@ WORST: list[str] = []
 #     call; with ShaftLine's seal indicator, a ramp stalled CVode at mxstep at 2.8 ms, a staircase
 #     failed its error test near 10 s. A constant input is the same in both;
 #   TractionMotorThermal, heat_source = 2: the nominal torque C_nom 1400 N m (5 kW of losses);
-#     heat_source = 3: those 5 kW as the loss input.
+#     heat_source = 3: those 5 kW as the loss input;
+#   AssistMotor: 2 N m measured while the column turns at 1 rad/s (a 14 A command: the battery, the
+#     armature and the back-emf's port all carry power). Constant, as ShaftLine's, for its
+#     saturation indicators under fmpy's CVode;
+#   SteeringRack: 2 N m from the torsion bar and 0.3 N m from the motor (4.3 N m at the column
+#     through the worm): the column turns until the tires' twist holds it, the treads stuck.
 DRIVEN = {
     "DriveShaft": lambda t: {"angle_a": 0.02 * np.sin(4 * np.pi * t), "speed_a": 0.02 * 4 * np.pi * np.cos(4 * np.pi * t),
                              "angle_b": 0.0 * t, "speed_b": 0.0 * t},
@@ -67,6 +72,8 @@ DRIVEN = {
     "InductionMotor": lambda t: {"torque_command": 100.0 + 0.0 * t},
     "ShaftLine": lambda t: {"U_supply_in": 700.0 + 0.0 * t},
     "TractionMotorThermal": lambda t: {"torque_in": 1400.0 + 0.0 * t, "P_joule_in": 5000.0 + 0.0 * t},
+    "AssistMotor": lambda t: {"measured_torque": 2.0 + 0.0 * t, "column_speed": 1.0 + 0.0 * t},
+    "SteeringRack": lambda t: {"torsion_bar_torque": 2.0 + 0.0 * t, "motor_torque": 0.3 + 0.0 * t},
 }
 
 

@@ -17,6 +17,12 @@
 //! torsion bar the book's torque sensor (Chap3_TorqueSensor.mo); the assistance (motor, worm,
 //! controller) has no book file and its values are argued in `docs/power-steering-spec.md`.
 //!
+//! The parts (driver and steering wheel, torsion bar, worm, assistance, rack side) are declared
+//! once in the crate `steering`, with their equations; this crate couples them rigidly where the
+//! subsystem FMUs SteeringColumn, AssistMotor and SteeringRack couple them through a master
+//! (docs/steering-system-spec.md). Its states are the springs' deflections: the column's angle is
+//! the steering wheel's less the torsion bar's twist.
+//!
 //! Both front wheels move alike: the book's lever is linear (Bielette_init) and the two wheels
 //! have the same parameters, so one equivalent wheel carries twice each per-wheel value (exact,
 //! not an approximation, as long as both tires stick or slip together, which identical tires
@@ -24,95 +30,15 @@
 
 mod documentation;
 
-use components::{
-    CoulombFriction, DcMachine, GearMode, Inertia, Lever, Mass, PiController, RackAndPinion, SecondOrderFilter, TorsionBar, TorsionSpring, TranslationalSpring,
-    WormGear,
-};
 use fmu_runtime::prelude::*;
-use std::f64::consts::PI;
-
-/// Two front wheels, each with its tie rod, lever and tire (see the crate documentation).
-const WHEELS: f64 = 2.0;
-
-/// The worm gear's default geometry: a 16.5 ratio, 20 degrees of lead angle, steel on a
-/// lubricated plastic wheel at mu = 0.05 (docs/power-steering-spec.md).
-fn default_worm() -> WormGear {
-    WormGear::from_lead_and_friction_angle(16.5, 20f64.to_radians(), 0.05f64.atan()).expect("a reversible worm")
-}
-
-/// How the driver acts (`driver_input`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Driver {
-    /// The steering-wheel angle is imposed (profile + angle_in) through the arm's stiffness.
-    Angle,
-    /// The driver's torque is imposed (torque_in).
-    Torque,
-}
+use steering::{Assist, Driver, Rack, Sensor};
 
 pub struct PowerSteering {
-    driver_input: IntegerParameter,
-    profile: IntegerParameter,
-    parking_amplitude: Parameter,
-    parking_frequency: Parameter,
-    sine_amplitude: Parameter,
-    sine_frequency: Parameter,
-    torque_amplitude: Parameter,
-    filter_frequency: Parameter,
-    filter_damping: Parameter,
-    k_arm: Parameter,
-    d_arm: Parameter,
-    j_wheel: Parameter,
-    k_torsion_bar: Parameter,
-    j_column: Parameter,
-    worm_ratio: Parameter,
-    worm_forward: Parameter,
-    worm_backward: Parameter,
-    column_friction: Parameter,
-    r_motor: Parameter,
-    l_motor: Parameter,
-    k_motor: Parameter,
-    j_motor: Parameter,
-    b_motor: Parameter,
-    u_battery: Parameter,
-    assist_gain: Parameter,
-    assist_damping: Parameter,
-    i_max: Parameter,
-    kp_current: Parameter,
-    ki_current: Parameter,
-    tracking_time: Parameter,
-    r_pinion: Parameter,
-    m_rack: Parameter,
-    k_tie_rod: Parameter,
-    rigid_tie_rods: BooleanParameter,
-    lever_arm: Parameter,
-    j_rim: Parameter,
-    k_tire: Parameter,
-    d_tire: Parameter,
-    j_tread: Parameter,
-    t_friction: Parameter,
-    k_gravity: Parameter,
-    angle_in: Input,
-    torque_in: Input,
-    reference: State,
-    reference_rate: State,
-    arm_stretch: State,
-    w_wheel: State,
+    driver: Driver,
+    sensor: Sensor,
+    assist: Assist,
+    rack: Rack,
     bar_twist: State,
-    w_column: State,
-    current: State,
-    current_integral: State,
-    tie_rod_stretch: State,
-    w_rim: State,
-    tire_twist: State,
-    w_tread: State,
-    worm_flow: Mode,
-    tread_mode: Mode,
-    assist_limit: Mode,
-    voltage_limit: Mode,
-    z_worm: Indicator,
-    z_tread: Indicator,
-    z_assist: Indicator,
-    z_voltage: Indicator,
     driver_torque: Output,
     torsion_bar_torque: Output,
     steering_wheel_angle: Output,
@@ -124,295 +50,21 @@ pub struct PowerSteering {
     motor_torque: Output,
     motor_voltage: Output,
     assist_torque: Output,
-    elements: Elements,
-}
-
-/// The elements whose powers the runtime integrates and balances (Table 3.1).
-struct Elements {
-    driver: Element,
-    arm: Element,
-    arm_damping: Element,
-    steering_wheel: Element,
-    torsion_bar: Element,
-    column: Element,
-    battery: Element,
-    armature_r: Element,
-    armature_l: Element,
-    rotor: Element,
-    motor_friction: Element,
-    worm_efficiency: Element,
-    column_friction: Element,
-    rack: Element,
-    tie_rods: Element,
-    rims: Element,
-    tire_stiffness: Element,
-    tire_damping: Element,
-    treads: Element,
-    ground_friction: Element,
-    kingpin_gravity: Element,
-}
-
-/// The components at the current parameter values (the wheel side already counts both wheels).
-struct Parts {
-    filter: SecondOrderFilter,
-    arm: TorsionSpring,
-    wheel: Inertia,
-    bar: TorsionBar,
-    column: Inertia,
-    worm: WormGear,
-    motor: DcMachine,
-    rotor: Inertia,
-    motor_friction_n_m_s_per_rad: f64,
-    column_friction_n_m: f64,
-    assist_gain: f64,
-    assist_damping_n_m_s_per_rad: f64,
-    assist: PiController,
-    current_loop: PiController,
-    pinion: RackAndPinion,
-    rack: Mass,
-    tie_rods: TranslationalSpring,
-    lever: Lever,
-    rigid_tie_rods: bool,
-    rims: Inertia,
-    tire: TorsionSpring,
-    treads: Inertia,
-    ground: CoulombFriction,
-    gravity: TorsionSpring,
-}
-
-/// Everything at one instant, for one direction of the power through the worm.
-#[derive(Default)]
-struct Operating {
-    reference_acceleration: f64,
-    driver_torque: f64,
-    driver_power: f64,
-    arm_power: f64,
-    arm_damper_power: f64,
-    twist_rate: f64,
-    bar_torque: f64,
-    wheel_acceleration: f64,
-    assist_demand: f64,
-    demand_rate: f64,
-    current_command: f64,
-    current_command_rate: f64,
-    current_error: f64,
-    voltage: f64,
-    current_rate: f64,
-    integral_rate: f64,
-    motor_torque: f64,
-    worm_torque: f64,
-    assist_torque: f64,
-    column_friction: f64,
-    column_acceleration: f64,
-    rack_force: f64,
-    tie_rod_stretch_rate: f64,
-    rim_acceleration: f64,
-    tire_torque: f64,
-    tread_acceleration: f64,
-    ground_torque: f64,
 }
 
 impl PowerSteering {
-    fn driver(&self, k: &Knowns) -> Driver {
-        if k[self.driver_input] == 2 {
-            Driver::Torque
-        } else {
-            Driver::Angle
-        }
+    /// The lower column's angle, rad: the steering wheel's less the torsion bar's twist (the
+    /// states are the springs' deflections, each under error control at its own scale).
+    fn column_angle(&self, k: &Knowns) -> f64 {
+        self.driver.wheel_angle(k) - k[self.bar_twist]
     }
 
-    fn parts(&self, k: &Knowns) -> Parts {
-        let worm = WormGear { ratio: k[self.worm_ratio], forward_efficiency: k[self.worm_forward], backward_efficiency: k[self.worm_backward] };
-        let motor = DcMachine { resistance_ohm: k[self.r_motor], inductance_h: k[self.l_motor], constant_v_s_per_rad: k[self.k_motor] };
-        Parts {
-            filter: SecondOrderFilter::from_angular_frequency(k[self.filter_frequency], k[self.filter_damping]),
-            arm: TorsionSpring { stiffness_n_m_per_rad: k[self.k_arm], damping_n_m_s_per_rad: k[self.d_arm] },
-            wheel: Inertia { inertia_kg_m2: k[self.j_wheel] },
-            bar: TorsionBar { stiffness_n_m_per_rad: k[self.k_torsion_bar], stop_angle_rad: f64::INFINITY },
-            column: Inertia { inertia_kg_m2: k[self.j_column] },
-            // From the assistance torque demanded at the column to the current that gives it
-            // while the motor drives (N eta_f k i), saturated at I_max.
-            assist_gain: k[self.assist_gain],
-            assist_damping_n_m_s_per_rad: k[self.assist_damping],
-            assist: PiController {
-                proportional_gain: 1.0 / (worm.ratio * worm.forward_efficiency * motor.constant_v_s_per_rad),
-                integral_gain: 0.0,
-                output_limit: k[self.i_max],
-                tracking_time_s: 1.0,
-            },
-            current_loop: PiController {
-                proportional_gain: k[self.kp_current],
-                integral_gain: k[self.ki_current],
-                output_limit: k[self.u_battery],
-                tracking_time_s: k[self.tracking_time],
-            },
-            worm,
-            motor,
-            rotor: Inertia { inertia_kg_m2: k[self.j_motor] },
-            motor_friction_n_m_s_per_rad: k[self.b_motor],
-            column_friction_n_m: k[self.column_friction],
-            pinion: RackAndPinion { pinion_radius_m: k[self.r_pinion] },
-            rack: Mass { mass_kg: k[self.m_rack] },
-            tie_rods: TranslationalSpring { stiffness_n_per_m: WHEELS * k[self.k_tie_rod], damping_n_s_per_m: 0.0 },
-            lever: Lever { arm_m: k[self.lever_arm] },
-            rigid_tie_rods: k[self.rigid_tie_rods],
-            rims: Inertia { inertia_kg_m2: WHEELS * k[self.j_rim] },
-            tire: TorsionSpring { stiffness_n_m_per_rad: WHEELS * k[self.k_tire], damping_n_m_s_per_rad: WHEELS * k[self.d_tire] },
-            treads: Inertia { inertia_kg_m2: WHEELS * k[self.j_tread] },
-            ground: CoulombFriction { coulomb_n_m: WHEELS * k[self.t_friction], static_n_m: WHEELS * k[self.t_friction] },
-            gravity: TorsionSpring { stiffness_n_m_per_rad: WHEELS * k[self.k_gravity], damping_n_m_s_per_rad: 0.0 },
-        }
-    }
-
-    /// The profile's shape, sin(2 pi f t), and its angle amplitude (`profile`: 1 parking, 2 sine
-    /// steer).
-    fn profile(&self, k: &Knowns) -> (f64, f64) {
-        let (amplitude, frequency) = match k[self.profile] {
-            2 => (k[self.sine_amplitude], k[self.sine_frequency]),
-            _ => (k[self.parking_amplitude], k[self.parking_frequency]),
-        };
-        ((2.0 * PI * frequency * k.time()).sin(), amplitude)
-    }
-
-    /// The driver's angle before the filter, rad (driver_input = 1): the profile plus angle_in.
-    fn profile_angle(&self, k: &Knowns) -> f64 {
-        let (shape, amplitude) = self.profile(k);
-        amplitude * shape + k[self.angle_in]
-    }
-
-    /// The wheels' speed about their pivots, rad/s: the state with compliant tie rods, the rack's
-    /// through the levers with rigid ones (the state then stays at 0).
-    fn rim_speed(&self, k: &Knowns) -> f64 {
-        if k[self.rigid_tie_rods] {
-            k[self.r_pinion] / k[self.lever_arm] * k[self.w_column]
-        } else {
-            k[self.w_rim]
-        }
-    }
-
-    /// The absolute angles from the states, which are the springs' deflections (each under error
-    /// control at its own scale: a tie rod stretches by microns while the rack travels
-    /// centimetres): steering wheel, column and wheels, rad.
-    fn angles(&self, p: &Parts, k: &Knowns) -> (f64, f64, f64) {
-        let wheel = k[self.reference] - k[self.arm_stretch];
-        let column = wheel - k[self.bar_twist];
-        let rim = (p.pinion.rack_velocity_m_per_s(column) - k[self.tie_rod_stretch]) / p.lever.arm_m;
-        (wheel, column, rim)
-    }
-
-    fn operate(&self, k: &Knowns, worm_mode: i32) -> Operating {
-        let p = self.parts(k);
-        let mut op = Operating::default();
-        let (w_wheel, w_column, w_rim, w_tread) = (k[self.w_wheel], k[self.w_column], self.rim_speed(k), k[self.w_tread]);
-
-        // The driver: an angle through the arm's stiffness, or a torque.
-        let (reference, reference_rate) = (k[self.reference], k[self.reference_rate]);
-        op.reference_acceleration = p.filter.acceleration(self.profile_angle(k), reference, reference_rate);
-        match self.driver(k) {
-            Driver::Angle => {
-                let (stretch, stretch_rate) = (k[self.arm_stretch], reference_rate - w_wheel);
-                op.driver_torque = p.arm.torque_n_m(stretch, stretch_rate);
-                op.driver_power = op.driver_torque * reference_rate;
-                op.arm_power = p.arm.spring_power_w(stretch, stretch_rate);
-                op.arm_damper_power = p.arm.damper_power_w(stretch_rate);
-            }
-            Driver::Torque => {
-                op.driver_torque = k[self.torque_amplitude] * self.profile(k).0 + k[self.torque_in];
-                op.driver_power = op.driver_torque * w_wheel;
-            }
-        }
-
-        // The torsion bar: its torque is the measured one.
-        let twist = k[self.bar_twist];
-        op.twist_rate = w_wheel - w_column;
-        op.bar_torque = p.bar.stiffness_n_m_per_rad * twist;
-        op.wheel_acceleration = p.wheel.acceleration_rad_per_s2(op.driver_torque - op.bar_torque);
-
-        // Assistance law and current loop.
-        op.assist_demand = p.assist_gain * op.bar_torque - p.assist_damping_n_m_s_per_rad * w_column;
-        op.current_command = p.assist.command(op.assist_demand, 0.0);
-        let (i, integral) = (k[self.current], k[self.current_integral]);
-        op.current_error = op.current_command - i;
-        op.voltage = p.current_loop.command(op.current_error, integral);
-        op.integral_rate = p.current_loop.integral_rate(op.current_error, integral);
-        let w_motor = p.worm.ratio * w_column;
-        op.current_rate = p.motor.current_rate_a_per_s(op.voltage, i, w_motor);
-        op.motor_torque = p.motor.torque_n_m(i);
-
-        // Tires and treads.
-        let rim_angle = self.angles(&p, k).2;
-        let tire_twist = k[self.tire_twist];
-        op.tire_torque = p.tire.torque_n_m(tire_twist, w_rim - w_tread);
-        let wheel_load = op.tire_torque + p.gravity.torque_n_m(rim_angle, 0.0);
-        let tread_mode = k[self.tread_mode];
-        if tread_mode == 0 {
-            op.ground_torque = -op.tire_torque;
-            op.tread_acceleration = 0.0;
-        } else {
-            op.ground_torque = p.ground.slip_torque_n_m(tread_mode);
-            op.tread_acceleration = p.treads.acceleration_rad_per_s2(op.tire_torque + op.ground_torque);
-        }
-
-        // The tie rods: compliant, their force from their stretch; rigid (the book's), the wheels
-        // turn with the rack (lever ratio r / b) and their load and inertia act on the column.
-        let ratio = p.pinion.pinion_radius_m / p.lever.arm_m;
-        let (load, wheels_inertia) = if p.rigid_tie_rods {
-            (op.bar_torque - ratio * wheel_load, ratio * ratio * p.rims.inertia_kg_m2)
-        } else {
-            op.rack_force = p.tie_rods.force_n(k[self.tie_rod_stretch], 0.0);
-            (op.bar_torque - p.pinion.pinion_torque_n_m(op.rack_force), 0.0)
-        };
-        op.tie_rod_stretch_rate = if p.rigid_tie_rods { 0.0 } else { p.pinion.rack_velocity_m_per_s(w_column) - p.lever.rod_velocity_m_per_s(w_rim) };
-
-        // The column, the worm and the motor's rotor move as one: with e the worm's torque
-        // factor for the power's direction (eta_f, or 1/eta_b) and s the direction of motion,
-        // (J_c + m_r r^2 + e N^2 J_m) dw/dt = T_bar - r F - s T_friction + N e (k i - b N w).
-        // At rest (GearMode::STUCK) the gear's and the column's friction hold it and take
-        // whatever torque that requires.
-        let n = p.worm.ratio;
-        let drive = op.motor_torque - p.motor_friction_n_m_s_per_rad * w_motor;
-        if worm_mode == GearMode::STUCK {
-            op.column_acceleration = 0.0;
-            op.worm_torque = drive;
-            op.assist_torque = -load;
-        } else {
-            let forward = GearMode::forward(worm_mode);
-            op.column_friction = -GearMode::direction(worm_mode) * p.column_friction_n_m;
-            let e = p.worm.low_side_torque_flowing_n_m(1.0, forward) / n;
-            let inertia = p.column.inertia_kg_m2 + p.pinion.referred_inertia_kg_m2(p.rack.mass_kg) + wheels_inertia + e * n * n * p.rotor.inertia_kg_m2;
-            op.column_acceleration = (load + op.column_friction + n * e * drive) / inertia;
-            op.worm_torque = drive - p.rotor.inertia_kg_m2 * n * op.column_acceleration;
-            op.assist_torque = p.worm.low_side_torque_flowing_n_m(op.worm_torque, forward);
-        }
-        if p.rigid_tie_rods {
-            op.rim_acceleration = ratio * op.column_acceleration;
-            op.rack_force = (p.rims.inertia_kg_m2 * op.rim_acceleration + wheel_load) / p.lever.arm_m;
-        } else {
-            op.rim_acceleration = p.rims.acceleration_rad_per_s2(p.lever.hinge_moment_n_m(op.rack_force) - wheel_load);
-        }
-        // d(demand)/dt, for the saturation's mode at an exact tie.
-        let demand_rate = p.assist_gain * p.bar.stiffness_n_m_per_rad * op.twist_rate - p.assist_damping_n_m_s_per_rad * op.column_acceleration;
-        op.demand_rate = demand_rate;
-        op.current_command_rate = if op.current_command.abs() < p.assist.output_limit { p.assist.proportional_gain * demand_rate } else { 0.0 };
-        op
-    }
-
-    /// Below this speed, at an event, the column (the worm) and the treads count as at rest, rad/s
-    /// (0.06 degree per second: Karnopp's stick window, D. Karnopp, "Computer simulation of
-    /// stick-slip friction in mechanical dynamic systems", J. Dyn. Sys. Meas. Control 107, 1985).
-    /// When the driver reverses, the column and the sliding treads creep to rest together (about
-    /// 0.1 rad/s2), their speeds' zeros tens of nanoseconds apart (48 ns at 12.2 s of the parking
-    /// manoeuvre): one stop, which Co-Simulation located as two events and a Model Exchange
-    /// master, whose root finder does not resolve 48 ns, as one. Whichever zero is located first
-    /// now stops both, as one event, in every master. The window must exceed the speed errors of
-    /// a master at its loosest tolerance (a strict master at rtol 1e-4 located the column's stop
-    /// 3.5 us early and the treads' 24 us after it; with a 1e-5 rad/s window it still saw two).
-    const STANDSTILL_RAD_PER_S: f64 = 1e-3;
-
-    /// How a moving worm mode would start from rest: the motor side's acceleration and torque.
-    fn worm_start(&self, k: &Knowns, mode: i32) -> (f64, f64) {
-        let op = self.operate(k, mode);
-        (op.column_acceleration, op.worm_torque)
+    /// The torsion bar's torque and the motor's electromagnetic torque, the couplings between the
+    /// three parts.
+    fn couplings(&self, k: &Knowns) -> (f64, f64) {
+        let bar_torque = self.sensor.torque_n_m(k, k[self.bar_twist]);
+        let w_column = self.rack.column_speed(k);
+        (bar_torque, self.assist.operate(k, &self.rack.worm, bar_torque, w_column).motor_torque)
     }
 }
 
@@ -428,78 +80,12 @@ impl Model for PowerSteering {
     }
 
     fn declare(d: &mut Declarations) -> Self {
-        let worm = default_worm();
-        let book = |what: &str, description: &str| format!("{description} (book file Chap6_Steering.mo, {what})");
         let model = PowerSteering {
-            driver_input: d
-                .integer_parameter("driver_input", 1)
-                .range(1, 2)
-                .describe("1 = the driver imposes the steering-wheel angle (profile + angle_in) through the arm's stiffness; 2 = the driver's torque torque_in"),
-            profile: d
-                .integer_parameter("profile", 1)
-                .range(1, 2)
-                .describe("The driver's profile, a sine: 1 = parking manoeuvre (the book's mission: one turn each way at 1/16 Hz), 2 = sine steer; an angle (driver_input = 1) or a torque of torque_amplitude (2). Set its amplitude to 0 to drive through angle_in or torque_in alone"),
-            parking_amplitude: d.parameter("parking_amplitude", 2.0 * 3.14, "rad").min(0.0).describe(&book("Steering_mission, sine amplitude 2*3.14", "Steering-wheel amplitude of the parking manoeuvre")),
-            parking_frequency: d.parameter("parking_frequency", 1.0 / 16.0, "Hz").min(0.0).describe(&book("Steering_mission, sine freqHz 1/16", "Frequency of the parking manoeuvre")),
-            sine_amplitude: d.parameter("sine_amplitude", 0.5, "rad").min(0.0).describe("Steering-wheel amplitude of the sine steer (chosen: 29 degrees)"),
-            sine_frequency: d.parameter("sine_frequency", 1.0, "Hz").min(0.0).describe("Frequency of the sine steer (chosen: a brisk 1 Hz)"),
-            torque_amplitude: d.parameter("torque_amplitude", 5.0, "N.m").min(0.0).describe("Amplitude of the driver's torque (driver_input = 2), with the profile's frequency (chosen: a firm hand on the wheel)"),
-            filter_frequency: d.parameter("driver_filter_w", 10.0, "rad/s").positive().describe(&book("Steering_mission, secondOrder w", "Natural frequency of the driver's second-order filter on the angle profile")),
-            filter_damping: d.parameter("driver_filter_damping", 1.0, "1").positive().describe(&book("Steering_mission, secondOrder D", "Damping of the driver's filter")),
-            k_arm: d.parameter("K_arm", 10000.0, "N.m/rad").positive().describe(&book("SteeringWheel, springDamper c", "Stiffness between the imposed angle and the steering wheel (the driver's hands and arms)")),
-            d_arm: d.parameter("D_arm", 15.0, "N.m.s/rad").min(0.0).describe("Damping of the driver's arms between the imposed angle and the steering wheel (chosen; the book's is 0, with which the assistance makes the 105 Hz steering-wheel mode unstable: docs/power-steering-spec.md)"),
-            j_wheel: d.parameter("J_steering_wheel", 0.023, "kg.m2").positive().describe(&book("SteeringWheel, inertia J", "Steering-wheel inertia")),
-            k_torsion_bar: d.parameter("K_torsion_bar", 100.0, "N.m/rad").positive().describe("Torsion bar stiffness of the torque sensor (book file Chap3_TorqueSensor.mo, spring c; section 3.5.2)"),
-            j_column: d.parameter("J_column", 2.0e-4, "kg.m2").positive().describe("Lower column, worm wheel and pinion shaft (chosen, Table 3.2 cylinders: docs/power-steering-spec.md)"),
-            worm_ratio: d.parameter("worm_ratio", worm.ratio, "1").positive().describe("Worm gear ratio, motor speed / column speed (chosen: docs/power-steering-spec.md)"),
-            worm_forward: d.parameter("worm_efficiency_forward", worm.forward_efficiency, "1").positive().max(1.0).describe("Worm efficiency while the motor drives the column: tan(lambda)/tan(lambda + phi), lead 20 deg, mu 0.05"),
-            worm_backward: d.parameter("worm_efficiency_backward", worm.backward_efficiency, "1").positive().max(1.0).describe("Worm efficiency while the column drives the motor back: tan(lambda - phi)/tan(lambda)"),
-            column_friction: d.parameter("T_column_friction", 0.5, "N.m").min(0.0).describe("Dry friction of the lower column and the worm's bearings, load-independent (chosen: docs/power-steering-spec.md)"),
-            r_motor: d.parameter("R_motor", 0.06, "Ohm").positive().describe("Assistance motor armature resistance (chosen, 12 V brushed DC)"),
-            l_motor: d.parameter("L_motor", 1.0e-4, "H").positive().describe("Assistance motor armature inductance (chosen)"),
-            k_motor: d.parameter("k_motor", 0.041, "V.s/rad").positive().describe("Assistance motor constant k_C = k_E (eq. 3.9; chosen for 35 N m of assistance at 60 A)"),
-            j_motor: d.parameter("J_motor", 1.5e-4, "kg.m2").positive().describe("Assistance motor rotor inertia (chosen)"),
-            b_motor: d.parameter("b_motor", 2.0e-4, "N.m.s/rad").min(0.0).describe("Assistance motor viscous friction (chosen: 0.02 N m at 100 rad/s)"),
-            u_battery: d.parameter("U_battery", 12.0, "V").positive().describe("Battery voltage, the current loop's limit"),
-            assist_gain: d.parameter("assist_gain", 4.0, "1").min(0.0).describe("Assistance gain: assistance torque at the column over the measured torque while the motor drives"),
-            assist_damping: d.parameter("assist_damping", 1.0, "N.m.s/rad").min(0.0).describe("Active damping of the assistance law: torque demanded at the column against the column's speed (chosen: without it the assisted column oscillates whenever the treads slide, docs/power-steering-spec.md)"),
-            i_max: d.parameter("I_max", 60.0, "A").positive().describe("Saturation of the current command"),
-            kp_current: d.parameter("Kp_current", 0.1885, "Ohm").positive().describe("Current loop proportional gain, L_motor x 1885 rad/s (a 300 Hz loop)"),
-            ki_current: d.parameter("Ki_current", 113.1, "Ohm/s").min(0.0).describe("Current loop integral gain, R_motor x 1885 rad/s"),
-            tracking_time: d.parameter("T_tracking_current", 1.0e-3, "s").positive().describe("Current loop anti-windup tracking time"),
-            r_pinion: d.parameter("r_pinion", 0.01, "m").positive().describe(&book("RackPinion2Ports, ratio 1/0.01", "Pinion radius (rack travel 62.8 mm per turn)")),
-            m_rack: d.parameter("m_rack", 2.5, "kg").positive().describe("Rack mass (chosen; the book's rack is massless)"),
-            rigid_tie_rods: d.boolean_parameter("rigid_tie_rods", true).describe("true: rigid tie rods (the book's Bielette_init); false: their axial stiffness K_tie_rod (a 200 Hz mode whose activity is negligible: docs/power-steering-spec.md)"),
-            k_tie_rod: d.parameter("K_tie_rod", 1.08e8, "N/m").positive().describe("Axial stiffness of one tie rod: steel, 14 mm, 0.3 m (Table 3.2, E A / L; the book's rods are rigid)"),
-            lever_arm: d.parameter("lever_arm", 0.1, "m").positive().describe(&book("Bielette_init, b_levier", "Steering lever arm, from the tie rod to the wheel's pivot")),
-            j_rim: d.parameter("J_rim", 1.0, "kg.m2").positive().describe(&book("Tire_init, J", "Inertia of one wheel (rim) about its pivot")),
-            k_tire: d.parameter("K_tire", 3000.0, "N.m/rad").positive().describe(&book("Tire_init, K", "Torsional stiffness of one tire between rim and tread")),
-            d_tire: d.parameter("D_tire", 28.0, "N.m.s/rad").min(0.0).describe(&book("Tire_init, f", "Torsional damping of one tire")),
-            j_tread: d.parameter("J_tread", 0.1, "kg.m2").positive().describe(&book("Tire_init, Jp", "Inertia of one tire's tread about the pivot")),
-            t_friction: d.parameter("T_tire_friction", 80.0, "N.m").min(0.0).describe(&book("Tire_init, T (bearingFriction, peak 1)", "Friction torque of one tread on the ground (static = sliding)")),
-            k_gravity: d.parameter("K_kingpin_gravity", 7.95, "N.m/rad").min(0.0).describe(&book("Tire_final, Kgr", "Return stiffness of one wheel from the kingpin's inclination (gravity)")),
-            angle_in: d.input("angle_in", 0.0, "rad").describe("Steering-wheel angle added to the profile before the driver's filter (driver_input = 1)"),
-            torque_in: d.input("torque_in", 0.0, "N.m").describe("Driver's torque added to the profile's (driver_input = 2)"),
-            reference: d.state("driver_angle", 0.0, "rad").nominal(1.0).describe("The driver's filtered angle (the imposed end of the arm's stiffness)"),
-            reference_rate: d.state("driver_angle_rate", 0.0, "rad/s").describe("Its rate"),
-            arm_stretch: d.state("arm_stretch", 0.0, "rad").nominal(1e-3).describe("The arm's deflection, driver's angle minus steering-wheel angle (driver_input = 2: minus the steering-wheel angle)"),
-            w_wheel: d.state("w_steering_wheel", 0.0, "rad/s").describe("Steering-wheel speed"),
+            driver: Driver::declare(d),
+            sensor: Sensor::declare(d),
+            assist: Assist::declare(d),
+            rack: Rack::declare(d),
             bar_twist: d.state("torsion_bar_twist", 0.0, "rad").nominal(0.05).describe("Torsion bar twist, steering-wheel angle minus column angle"),
-            w_column: d.state("w_column", 0.0, "rad/s").describe("Lower column speed (the motor turns N times faster)"),
-            current: d.state("i_motor", 0.0, "A").nominal(10.0).describe("Assistance motor current"),
-            current_integral: d.state("current_error_integral", 0.0, "A.s").nominal(1e-3).describe("Current loop's integral of the error"),
-            tie_rod_stretch: d.state("tie_rod_stretch", 0.0, "m").nominal(1e-5).describe("Tie rods' stretch, rack travel minus the levers' travel"),
-            w_rim: d.state("w_rim", 0.0, "rad/s").describe("Wheels' speed about their pivots"),
-            tire_twist: d.state("tire_twist", 0.0, "rad").nominal(0.03).describe("Tires' twist, wheel angle minus tread angle"),
-            w_tread: d.state("w_tread", 0.0, "rad/s").describe("Treads' speed on the ground"),
-            worm_flow: d.mode("worm_mode", 0).range(-2, 2).describe("The worm gear (components::GearMode): 0 at rest, held by its friction; moving, the sign is the column's direction and 1 = the motor drives the column, 2 = the column drives the motor"),
-            tread_mode: d.mode("tread_mode", 0).range(-1, 1).describe("Treads on the ground: 1 sliding forwards, 0 stuck, -1 sliding backwards"),
-            assist_limit: d.mode("assist_limit", 0).range(-1, 1).describe("Current command: 0 within +/- I_max, 1 at +I_max, -1 at -I_max"),
-            voltage_limit: d.mode("voltage_limit", 0).range(-1, 1).describe("Current loop's voltage: 0 within +/- U_battery, 1 at +U_battery, -1 at -U_battery"),
-            z_worm: d.event_indicator("worm", "moving: the smaller of the column speed's and the worm torque's margins in the mode's direction; at rest: how far every direction is from breaking away"),
-            z_tread: d.event_indicator("tread", "sliding: the treads' speed in the direction of slip; stuck: the friction's margin"),
-            z_assist: d.event_indicator("assist_saturation", "within: I_max - |gain x torque|; saturated: how far beyond"),
-            z_voltage: d.event_indicator("voltage_saturation", "within: U_battery - |raw voltage|; saturated: how far beyond"),
             driver_torque: d.output("driver_torque", "N.m").describe("The driver's torque on the steering wheel"),
             torsion_bar_torque: d.output("torsion_bar_torque", "N.m").describe("The torque the sensor measures, K_torsion_bar x twist"),
             steering_wheel_angle: d.output("steering_wheel_angle", "rad").describe("Steering-wheel angle"),
@@ -511,37 +97,10 @@ impl Model for PowerSteering {
             motor_torque: d.output("motor_torque", "N.m").describe("Electromagnetic torque k i"),
             motor_voltage: d.output("motor_voltage", "V").describe("The current loop's voltage on the motor"),
             assist_torque: d.output("assist_torque", "N.m").describe("Torque of the worm wheel on the column"),
-            elements: Elements {
-                driver: d.element("driver", "Driver", Effect { domains: &[Domain::Rotational], kind: Kind::Source, what: "the driver's hands" }).describe("the driver, power T_driver x (imposed angle's rate, or steering-wheel speed)"),
-                arm: d.element("arm_stiffness", "Driver", Effect { what: "arm stiffness", ..TorsionSpring::STIFFNESS }).describe("the arm's stiffness between the imposed angle and the wheel"),
-                arm_damping: d.element("arm_damping", "Driver", Effect { what: "arm damping", ..TorsionSpring::DAMPING }).describe("the arm's damping between the imposed angle and the wheel"),
-                steering_wheel: d.element("steering_wheel", "Steering wheel", Effect { what: "steering-wheel inertia", ..Inertia::INERTIA }).describe("the steering wheel's inertia"),
-                torsion_bar: d.element("torsion_bar", "Torque sensor", TorsionBar::STIFFNESS).describe("the torsion bar, K twist dtwist/dt"),
-                column: d.element("column", "Column", Effect { what: "column inertia", ..Inertia::INERTIA }).describe("the lower column, worm wheel and pinion"),
-                battery: d.element("battery", "Motor", Effect { domains: &[Domain::Electrical], kind: Kind::Source, what: "battery through the current loop's bridge" }).describe("the battery, u i"),
-                armature_r: d.element("armature_resistance", "Motor", DcMachine::RESISTANCE).describe("the motor's armature resistance, R i^2"),
-                armature_l: d.element("armature_inductance", "Motor", DcMachine::INDUCTANCE).describe("the motor's armature inductance, L i di/dt"),
-                rotor: d.element("rotor", "Motor", Effect { what: "rotor inertia", ..Inertia::INERTIA }).describe("the motor's rotor inertia"),
-                motor_friction: d.element("motor_friction", "Motor", Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "viscous friction" }).describe("the motor's viscous friction, b w^2"),
-                worm_efficiency: d.element("worm_efficiency", "Worm gear", WormGear::EFFICIENCY).describe("the worm's losses"),
-                column_friction: d.element("column_friction", "Column", CoulombFriction::FRICTION).describe("the column's and the worm bearings' dry friction, T |w|"),
-                rack: d.element("rack", "Rack", Mass::MASS).describe("the rack's mass"),
-                tie_rods: d.element("tie_rods", "Tie rods", TranslationalSpring::STIFFNESS).describe("the tie rods' stiffness"),
-                rims: d.element("rims", "Wheels", Effect { what: "wheel inertia about the pivot", ..Inertia::INERTIA }).describe("the wheels' inertia about their pivots"),
-                tire_stiffness: d.element("tire_stiffness", "Tires", Effect { what: "tire torsional stiffness", ..TorsionSpring::STIFFNESS }).describe("the tires' torsional stiffness"),
-                tire_damping: d.element("tire_damping", "Tires", Effect { what: "tire torsional damping", ..TorsionSpring::DAMPING }).describe("the tires' torsional damping"),
-                treads: d.element("treads", "Tires", Effect { what: "tread inertia", ..Inertia::INERTIA }).describe("the treads' inertia"),
-                ground_friction: d.element("ground_friction", "Tires", CoulombFriction::FRICTION).describe("the treads' friction on the ground"),
-                kingpin_gravity: d.element("kingpin_gravity", "Wheels", Effect { what: "kingpin inclination (gravity return)", ..TorsionSpring::STIFFNESS }).describe("the kingpin's gravity return (the car lifted as the wheels turn)"),
-            },
         };
-        d.element("electromechanical_transformer", "Motor", DcMachine::TRANSFORMER).describe("the motor's E = k w, C = k i (eq. 3.9)");
-        d.element("worm_ratio", "Worm gear", WormGear::RATIO).describe("the worm's ratio N");
-        d.element("rack_and_pinion", "Rack", RackAndPinion::TRANSFORMER).describe("the pinion, v = r w, T = r F");
-        d.element("steering_levers", "Wheels", Lever::TRANSFORMER).describe("the steering levers, v = b w, T = b F");
-        d.neglected("Torque sensor", TorsionBar::STIFFNESS, "the torsion bar's end stops: the twist stays within a few degrees with the assistance on (docs/power-steering-spec.md)");
-        d.neglected("Motor", CoulombFriction::FRICTION, "the motor's brushes' and bearings' dry friction: only its viscous part is kept");
-        d.neglected("Tie rods", TranslationalSpring::DAMPING, "the steel rods' internal damping (the tires damp the wheels)");
+        Assist::declare_transformer(d);
+        Rack::declare_transformers_and_neglected(d);
+        Sensor::neglect_stops(d);
         model
     }
 
@@ -556,107 +115,52 @@ impl Model for PowerSteering {
     }
 
     fn check(&self, k: &Knowns) -> Result<(), String> {
-        WormGear::new(k[self.worm_ratio], k[self.worm_forward], k[self.worm_backward]).map(|_| ()).map_err(|e| format!("worm gear: {e}"))
+        self.rack.worm.check(k)
     }
 
     fn event_indicators(&self, k: &Knowns, z: &mut EventIndicators) {
-        let p = self.parts(k);
-        let op = self.operate(k, k[self.worm_flow]);
-        z[self.z_worm] = match k[self.worm_flow] {
-            GearMode::STUCK => GearMode::stuck_margin(|m| self.worm_start(k, m)),
-            mode => GearMode::moving_margin(mode, k[self.w_column], op.worm_torque),
-        };
-        z[self.z_tread] = p.ground.indicator(k[self.tread_mode], k[self.w_tread], op.tire_torque);
-        z[self.z_assist] = p.assist.limit_indicator(k[self.assist_limit], op.assist_demand, 0.0);
-        z[self.z_voltage] = p.current_loop.limit_indicator(k[self.voltage_limit], op.current_error, k[self.current_integral]);
+        let (bar_torque, motor_torque) = self.couplings(k);
+        self.rack.event_indicators(k, self.column_angle(k), bar_torque, motor_torque, z);
+        self.assist.event_indicators(k, &self.rack.worm, bar_torque, self.rack.column_speed(k), z);
     }
 
     fn update_modes(&self, k: &Knowns, next: &mut ModeUpdate) {
-        let p = self.parts(k);
-        let torque = self.operate(k, GearMode::of(k[self.w_column], true)).worm_torque;
-        let (flow, stop) = GearMode::next(k[self.worm_flow], k[self.w_column], torque, Self::STANDSTILL_RAD_PER_S, |m| self.worm_start(k, m));
-        next[self.worm_flow] = flow;
-        if stop {
-            next.reinit(self.w_column, 0.0);
-        }
-        let op = self.operate(k, k[self.worm_flow]);
-        // A sliding tread slower than the standstill speed is taken as stopped (see
-        // STANDSTILL_RAD_PER_S): its speed is then reset to 0 whatever the mode after.
-        let w_tread = k[self.w_tread];
-        let creeping = k[self.tread_mode] != 0 && w_tread.abs() < Self::STANDSTILL_RAD_PER_S;
-        let (tread, stop) = p.ground.next_mode(k[self.tread_mode], if creeping { 0.0 } else { w_tread }, op.tire_torque);
-        next[self.tread_mode] = tread;
-        if stop {
-            next.reinit(self.w_tread, 0.0);
-        }
-        next[self.assist_limit] = p.assist.next_limit_mode(k[self.assist_limit], op.assist_demand, 0.0, p.assist.proportional_gain * op.demand_rate);
-        let error_rate = op.current_command_rate - op.current_rate;
-        let raw_rate = p.current_loop.raw_rate(op.current_error, error_rate, k[self.current_integral]);
-        next[self.voltage_limit] = p.current_loop.next_limit_mode(k[self.voltage_limit], op.current_error, k[self.current_integral], raw_rate);
+        let (bar_torque, motor_torque) = self.couplings(k);
+        let column_angle = self.column_angle(k);
+        // The assistance's tie-breaking rates, from the modes before the update (as the rack's).
+        let column_acceleration = self.rack.column_acceleration(k, column_angle, bar_torque, motor_torque);
+        let torque_rate = self.sensor.torque_n_m(k, self.driver.wheel_speed(k) - self.rack.column_speed(k));
+        self.rack.update_modes(k, column_angle, bar_torque, motor_torque, next);
+        self.assist.update_modes(k, &self.rack.worm, bar_torque, self.rack.column_speed(k), torque_rate, column_acceleration, next);
     }
 
     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
-        let p = self.parts(k);
-        let op = self.operate(k, k[self.worm_flow]);
-        let (w_wheel, w_column, w_rim, w_tread) = (k[self.w_wheel], k[self.w_column], self.rim_speed(k), k[self.w_tread]);
-        der[self.reference] = k[self.reference_rate];
-        der[self.reference_rate] = op.reference_acceleration;
-        der[self.arm_stretch] = k[self.reference_rate] - w_wheel;
-        der[self.w_wheel] = op.wheel_acceleration;
+        let (bar_torque, motor_torque) = self.couplings(k);
+        let (w_wheel, w_column) = (self.driver.wheel_speed(k), self.rack.column_speed(k));
+        self.driver.derivatives(k, bar_torque, der);
         der[self.bar_twist] = w_wheel - w_column;
-        der[self.w_column] = op.column_acceleration;
-        der[self.current] = op.current_rate;
-        der[self.current_integral] = op.integral_rate;
-        if !p.rigid_tie_rods {
-            der[self.tie_rod_stretch] = op.tie_rod_stretch_rate;
-            der[self.w_rim] = op.rim_acceleration;
-        }
-        der[self.tire_twist] = w_rim - w_tread;
-        der[self.w_tread] = op.tread_acceleration;
-
-        let e = &self.elements;
-        let w_motor = p.worm.ratio * w_column;
-        let i = k[self.current];
-        der.power(e.driver, op.driver_power);
-        der.power(e.arm, op.arm_power);
-        der.power(e.arm_damping, op.arm_damper_power);
-        der.power(e.steering_wheel, p.wheel.power_w(op.wheel_acceleration, w_wheel));
-        der.power(e.torsion_bar, op.bar_torque * op.twist_rate);
-        der.power(e.column, p.column.power_w(op.column_acceleration, w_column));
-        der.power(e.battery, op.voltage * i);
-        der.power(e.armature_r, p.motor.resistance_power_w(i));
-        der.power(e.armature_l, p.motor.inductance_power_w(op.current_rate, i));
-        der.power(e.rotor, p.rotor.power_w(p.worm.ratio * op.column_acceleration, w_motor));
-        der.power(e.motor_friction, p.motor_friction_n_m_s_per_rad * w_motor * w_motor);
-        der.power(e.worm_efficiency, op.worm_torque * w_motor - op.assist_torque * w_column);
-        der.power(e.column_friction, -op.column_friction * w_column);
-        let rack_speed = p.pinion.rack_velocity_m_per_s(w_column);
-        der.power(e.rack, p.rack.power_w(p.pinion.rack_velocity_m_per_s(op.column_acceleration), rack_speed));
-        der.power(e.tie_rods, op.rack_force * op.tie_rod_stretch_rate);
-        der.power(e.rims, p.rims.power_w(op.rim_acceleration, w_rim));
-        let tire_twist = k[self.tire_twist];
-        der.power(e.tire_stiffness, p.tire.spring_power_w(tire_twist, w_rim - w_tread));
-        der.power(e.tire_damping, p.tire.damper_power_w(w_rim - w_tread));
-        der.power(e.treads, p.treads.power_w(op.tread_acceleration, w_tread));
-        der.power(e.ground_friction, -op.ground_torque * w_tread);
-        der.power(e.kingpin_gravity, p.gravity.spring_power_w(self.angles(&p, k).2, w_rim));
+        self.sensor.report(k, k[self.bar_twist], w_wheel - w_column, der);
+        self.assist.derivatives(k, &self.rack.worm, bar_torque, w_column, der);
+        self.rack.derivatives(k, self.column_angle(k), bar_torque, motor_torque, der);
     }
 
     fn outputs(&self, k: &Knowns, out: &mut Outputs) {
-        let p = self.parts(k);
-        let op = self.operate(k, k[self.worm_flow]);
-        out[self.driver_torque] = op.driver_torque;
-        out[self.torsion_bar_torque] = op.bar_torque;
-        let (wheel, column, rim) = self.angles(&p, k);
-        out[self.steering_wheel_angle] = wheel;
-        out[self.rack_position] = p.pinion.rack_velocity_m_per_s(column);
-        out[self.rack_force] = op.rack_force;
-        out[self.wheel_angle] = rim;
-        out[self.motor_current] = k[self.current];
-        out[self.current_command] = op.current_command;
-        out[self.motor_torque] = op.motor_torque;
-        out[self.motor_voltage] = op.voltage;
-        out[self.assist_torque] = op.assist_torque;
+        let (bar_torque, _) = self.couplings(k);
+        let w_column = self.rack.column_speed(k);
+        let assist = self.assist.operate(k, &self.rack.worm, bar_torque, w_column);
+        let column_angle = self.column_angle(k);
+        let rack = self.rack.operating(k, column_angle, bar_torque, assist.motor_torque);
+        out[self.driver_torque] = self.driver.forces(k).driver_torque;
+        out[self.torsion_bar_torque] = bar_torque;
+        out[self.steering_wheel_angle] = self.driver.wheel_angle(k);
+        out[self.rack_position] = self.rack.rack_position(k, column_angle);
+        out[self.rack_force] = rack.rack_force;
+        out[self.wheel_angle] = self.rack.wheel_angle(k, column_angle);
+        out[self.motor_current] = self.assist.current(k);
+        out[self.current_command] = assist.current_command;
+        out[self.motor_torque] = assist.motor_torque;
+        out[self.motor_voltage] = assist.voltage;
+        out[self.assist_torque] = rack.assist_torque;
     }
 }
 
