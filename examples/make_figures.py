@@ -29,6 +29,8 @@ SCRIPTS = [
     "elevator_drive",
     "power_steering",
     "eha_flight_control",
+    "booster_nozzle",
+    "mems_accelerometer",
 ]
 
 

@@ -24,11 +24,11 @@ import math
 
 import numpy as np
 import pytest
+from fmi_host import state_jacobian
 from fmpy import read_model_description, simulate_fmu
-from fmpy.fmi2 import FMU2Model
 
 import eha_reference as ref
-from conftest import DIST_DIR, print_past_capture, require_fmu, unzipdir, fmu_key
+from conftest import DIST_DIR, print_past_capture, require_fmu
 
 REL_TOL = 1e-6  # of each output's range, FMU at rtol 1e-10 against the scipy reference
 COMPARED = ("surface_angle", "surface_rate", "motor_voltage", "motor_current", "motor_speed", "motor_torque", "pump_pressure",
@@ -206,49 +206,7 @@ def test_default_run_against_scipy(level):
 def linearisation(overrides: dict) -> np.ndarray:
     """The FMU's Jacobian d(der(x))/dx of its physical states at rest (Model Exchange, central
     differences of fmi2GetDerivatives, steps of 1e-6 of each state's nominal)."""
-    from ctypes import c_double
-
-    md = model_description()
-    key = fmu_key(fmu())
-    m = FMU2Model(guid=md.guid, unzipDirectory=unzipdir(key), modelIdentifier=md.modelExchange.modelIdentifier, instanceName="lin")
-    variables = {v.name: v for v in md.modelVariables}
-    m.instantiate()
-    try:
-        m.setupExperiment(startTime=0.0)
-        for name, value in overrides.items():
-            v = variables[name]
-            if v.type == "Integer":
-                m.setInteger([v.valueReference], [int(value)])
-            else:
-                m.setReal([v.valueReference], [float(value)])
-        m.enterInitializationMode()
-        m.exitInitializationMode()
-        while True:
-            info = m.newDiscreteStates()
-            if not info[0]:
-                break
-        m.enterContinuousTimeMode()
-        order = [d.variable.derivative.name for d in md.derivatives]
-        n = len(order)
-        x0 = (c_double * n)()
-        m.getContinuousStates(x0, n)
-        rows = [order.index(s) for s in STATES]
-        jac = np.zeros((len(STATES), len(STATES)))
-        for j, s in enumerate(STATES):
-            h = 1e-6 * float(variables[s].nominal or 1.0)
-            cols = []
-            for sign in (1.0, -1.0):
-                x = (c_double * n)(*x0)
-                x[rows[j]] += sign * h
-                m.setContinuousStates(x, n)
-                dx = (c_double * n)()
-                m.getDerivatives(dx, n)
-                cols.append(np.array([dx[r] for r in rows]))
-            jac[:, j] = (cols[0] - cols[1]) / (2 * h)
-        return jac
-    finally:
-        m.terminate()
-        m.freeInstance()
+    return state_jacobian(fmu(), STATES, overrides)
 
 
 # The rotor made immovable: 1e3 kg m2 is 3.2e10 kg on the rod.

@@ -49,6 +49,8 @@ OUTPUTS = {
     "elevator_drive": ["ElevatorDrive_ride.png"],
     "power_steering": ["PowerSteering_parking.png"],
     "eha_flight_control": ["EhaFlightControl_levels.png"],
+    "booster_nozzle": ["BoosterNozzle_resonance_and_effects.png"],
+    "mems_accelerometer": ["MemsAccelerometer_response.png"],
 }
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 

@@ -39,6 +39,8 @@ pub mod hydraulic;
 pub mod induction;
 pub mod magnetic;
 pub mod mechanical;
+pub mod mems;
+pub mod modal;
 pub mod roots;
 pub mod sources;
 pub mod table;
@@ -52,6 +54,7 @@ pub use hydraulic::{DoubleActingCylinder, FixedDisplacementMotor, FixedDisplacem
 pub use induction::{Fluxes, InductionMachine};
 pub use magnetic::{Reluctance, RlWinding, ToothFaces, ToothedAirGap, Winding, MU_0_H_PER_M};
 pub use mechanical::{SHAFT_PORT, CableDrum, CoulombFriction, FanLoad, GearMode, Inertia, PropellerLoad, Reducer, TorsionBar, TorsionSpring, WormGear, WormGearError};
+pub use modal::TwoDegreesOfFreedom;
 pub use sources::{Ramp, SineVoltage, Weight};
 pub use table::{Interpolation, TorqueSpeedTable};
 pub use thermal::{ThermalConductance, ThermalNode};
