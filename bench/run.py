@@ -411,6 +411,19 @@ def main() -> None:
         *alloc,
         "",
     ])
+    # Issue 23's benchmark: CommonRailInjection against scipy Radau and RK45 on the same equations
+    # (bench/python/common_rail_scipy.py; skipped in a dist from before the model).
+    rail = dist / "CommonRailInjection.fmu"
+    if rail.is_file():
+        log("== CommonRailInjection vs scipy (bench/python/common_rail_scipy.py, a few minutes)")
+        table = sh([sys.executable, str(ROOT / "bench/python/common_rail_scipy.py"), "--fmu", str(rail), "--repeats", str(args.repeats)])
+        text += "\n".join([
+            "CommonRailInjection, 4 injectors at 2000 rpm, 1 s of engine time (CPU time of the thread; our FMU in fmpy's "
+            "FMU2Slave loop at its default tolerance; scipy at the loosest rtol whose errors are at or below ours):",
+            "",
+            table.strip(),
+            "",
+        ])
     (out / "results.md").write_text(text)
     print(text)
     log(f"wrote {out / 'results.md'}")

@@ -31,6 +31,7 @@ SCRIPTS = [
     "eha_flight_control",
     "booster_nozzle",
     "mems_accelerometer",
+    "common_rail",
 ]
 
 

@@ -29,7 +29,7 @@ DIST_DIR = Path(os.environ["FMU_DIST_DIR"]).resolve() if os.environ.get("FMU_DIS
 
 # FMUs that build-fmus must produce; any other dist/*.fmu is tested by the generic tests too.
 EXPECTED_FMUS = ("RlcCircuit", "MotorFan", "TractionMotorThermal", "TorqueSensor", "ShaftLine", "ElevatorDrive", "EhaFlightControl", "PowerSteering",
-                 "SteeringColumn", "AssistMotor", "SteeringRack", "MemsAccelerometer", "BoosterNozzle")
+                 "SteeringColumn", "AssistMotor", "SteeringRack", "MemsAccelerometer", "BoosterNozzle", "CommonRailInjection")
 
 BUILD_HINT = "run `cargo run --release -p build-fmus` (from the repository root) to build the FMUs into dist/"
 

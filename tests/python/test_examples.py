@@ -51,6 +51,7 @@ OUTPUTS = {
     "eha_flight_control": ["EhaFlightControl_levels.png"],
     "booster_nozzle": ["BoosterNozzle_resonance_and_effects.png"],
     "mems_accelerometer": ["MemsAccelerometer_response.png"],
+    "common_rail": ["CommonRailInjection_rail_pressure.png"],
 }
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 

@@ -37,6 +37,7 @@ pub mod electrical;
 pub mod geometry;
 pub mod hydraulic;
 pub mod induction;
+pub mod injection;
 pub mod magnetic;
 pub mod mechanical;
 pub mod mems;
