@@ -35,5 +35,5 @@ for t in every_fmu parameter_ranges; do
     memcheck "$(test_binary "$t")" --test-threads=1 -q
 done
 echo "-- valgrind: fuzz_calls (180 sequences, communication steps <= 1 ms)"
-FUZZ_CASES=180 FUZZ_SHORT_STEPS=1 memcheck "$(test_binary fuzz_calls)" --test-threads=1 -q
+FUZZ_CASES=180 FUZZ_SHORT_STEPS=1 FUZZ_THREADS=1 memcheck "$(test_binary fuzz_calls)" --test-threads=1 -q
 echo "valgrind: 0 errors, 0 bytes lost"

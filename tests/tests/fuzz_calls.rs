@@ -16,7 +16,8 @@
 //! bit) as a fresh instance does.
 //!
 //! `FUZZ_CASES` sets the total number of cases over all FMUs (default 10 000); `PROPTEST_SEED`
-//! -free: the runner's seed is fixed per FMU so a failure replays.
+//! -free: the runner's seed is fixed per FMU so a failure replays. The FMUs are fuzzed side by
+//! side, one thread per core (`FUZZ_THREADS` sets the count).
 
 use std::ffi::{c_char, c_int, CString};
 use std::ptr;
@@ -613,41 +614,73 @@ fn run_case(target: &Target, case: &Case, reference: &[Vec<u64>; 2], tally: &mut
     Ok(())
 }
 
+/// One FMU's share of the cases, with its own fixed seed (index `n` in dist/'s order): its report
+/// line, or the failure.
+fn fuzz_one(n: usize, fmu: &Arc<Fmu>, per_fmu: u32) -> Result<String, String> {
+    let target = Target::of(fmu);
+    let reference = [false, true].map(|me| {
+        let mut fresh = target.instantiate("fresh", me, false, true);
+        target.reference_run(&mut fresh, me).unwrap_or_else(|e| panic!("{}: fresh run: {e}", target.name()))
+    });
+    let config = Config { cases: per_fmu, failure_persistence: None, max_shrink_iters: 2000, ..Config::default() };
+    // A fixed seed per FMU: a failure replays exactly.
+    let mut seed = [0u8; 32];
+    seed[0] = n as u8;
+    seed[1..9].copy_from_slice(&0x5eed_f00d_u64.to_le_bytes());
+    let mut runner = TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &seed));
+    let tally = std::cell::RefCell::new(Tally::default());
+    let started = Instant::now();
+    let result = runner.run(&any_case(), |case| run_case(&target, &case, &reference, &mut tally.borrow_mut()));
+    if let Err(e) = result {
+        return Err(format!("{}: {e}", target.name()));
+    }
+    let t = tally.into_inner();
+    Ok(format!(
+        "  {:<22} {per_fmu} sequences, {} calls: {} fmi2OK ({} doSteps), {} fmi2Error, {} fmi2Discard; {:.1} s",
+        target.name(),
+        t.calls,
+        t.ok,
+        t.steps_ok,
+        t.errors,
+        t.discards,
+        started.elapsed().as_secs_f64()
+    ))
+}
+
 #[test]
 fn random_call_sequences_never_crash_hang_or_fail_silently() {
     let fmus = every_fmu();
     let total: u32 = std::env::var("FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(10_000);
     let per_fmu = total.div_ceil(fmus.len() as u32);
+    // The FMUs are fuzzed side by side, one thread per core taking the next FMU (instances share
+    // nothing: tests/tests/threads.rs); each FMU's cases and seed are the same as one at a time.
+    // FUZZ_THREADS overrides the count (tests/valgrind.sh, under which threads only interleave, sets 1).
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let workers = std::env::var("FUZZ_THREADS").ok().and_then(|v| v.parse().ok()).unwrap_or(cores).clamp(1, fmus.len());
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut results: Vec<(usize, Result<String, String>)> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..workers)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let n = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(fmu) = fmus.get(n) else { break };
+                        done.push((n, fuzz_one(n, fmu, per_fmu)));
+                    }
+                    done
+                })
+            })
+            .collect();
+        handles.into_iter().flat_map(|h| h.join().expect("a fuzzing thread panicked")).collect()
+    });
+    results.sort_by_key(|(n, _)| *n);
     let mut report = Vec::new();
-    for (n, fmu) in fmus.iter().enumerate() {
-        let target = Target::of(fmu);
-        let reference = [false, true].map(|me| {
-            let mut fresh = target.instantiate("fresh", me, false, true);
-            target.reference_run(&mut fresh, me).unwrap_or_else(|e| panic!("{}: fresh run: {e}", target.name()))
-        });
-        let config = Config { cases: per_fmu, failure_persistence: None, max_shrink_iters: 2000, ..Config::default() };
-        // A fixed seed per FMU: a failure replays exactly.
-        let mut seed = [0u8; 32];
-        seed[0] = n as u8;
-        seed[1..9].copy_from_slice(&0x5eed_f00d_u64.to_le_bytes());
-        let mut runner = TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &seed));
-        let tally = std::cell::RefCell::new(Tally::default());
-        let started = Instant::now();
-        let result = runner.run(&any_case(), |case| run_case(&target, &case, &reference, &mut tally.borrow_mut()));
-        if let Err(e) = result {
-            panic!("{}: {e}", target.name());
+    for (_, result) in results {
+        match result {
+            Ok(line) => report.push(line),
+            Err(failure) => panic!("{failure}"),
         }
-        let t = tally.into_inner();
-        report.push(format!(
-            "  {:<22} {per_fmu} sequences, {} calls: {} fmi2OK ({} doSteps), {} fmi2Error, {} fmi2Discard; {:.1} s",
-            target.name(),
-            t.calls,
-            t.ok,
-            t.steps_ok,
-            t.errors,
-            t.discards,
-            started.elapsed().as_secs_f64()
-        ));
     }
     println!("random FMI call sequences (crashes 0, hangs 0, illegal statuses 0, silent errors 0):\n{}", report.join("\n"));
 }
