@@ -58,7 +58,7 @@ pub fn default_experiment<M: Model>() -> Result<Vec<ActivityRow>, String> {
         return Ok(Vec::new());
     }
     let e = M::info().default_experiment;
-    let mut inst = Instance::<M>::new("{activity-report}", Logger::new(None, std::ptr::null_mut(), "activity-report", false));
+    let mut inst = Instance::<M>::new("{activity-report}", Logger::silent());
     let fail = |what: &str, f: crate::instance::Failure| format!("{what}: {}", f.message);
     inst.setup_experiment(None, e.start_time, Some(e.stop_time)).map_err(|f| fail("setup", f))?;
     inst.enter_initialization_mode().map_err(|f| fail("initialization", f))?;

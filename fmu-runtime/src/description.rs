@@ -15,20 +15,15 @@
 use std::collections::BTreeSet;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use quick_xml::events::{BytesDecl, BytesEnd, BytesStart, Event};
-use quick_xml::Writer;
-
-use crate::log::CATEGORIES;
 use crate::model::Model;
-use crate::state::{fnv1a64, FNV_OFFSET};
-use crate::units;
 use crate::values::Values;
-use crate::variables::{Causality, Initial, Slot, Start, Variable, VariableTable};
+use crate::variables::{Causality, Initial, Slot, Variable, VariableTable};
 
-/// A generated description and its guid.
+/// What a model says about itself: its variables, the structure of its equations, its problems,
+/// and the modelDescription.xml of each standard written from them.
 pub struct ModelDescription {
-    pub xml: String,
-    pub guid: String,
+    /// FMI 2.0: the XML and its guid.
+    pub fmi2: Document,
     /// The model crate's version, authors, license and source date (in the XML's header).
     pub package: Package,
     pub table: VariableTable,
@@ -79,7 +74,7 @@ impl Package {
     }
 
     /// The attributes of `fmiModelDescription` it gives, in the schema's order (empty ones left out).
-    fn attributes(&self) -> Vec<(&'static str, String)> {
+    pub fn attributes(&self) -> Vec<(&'static str, String)> {
         let mut a = Vec::new();
         let authors = self.authors();
         if !authors.is_empty() {
@@ -210,11 +205,11 @@ fn unreported_powers<M: Model>(model: &M, table: &VariableTable, t: f64, values:
 fn constant_outputs<M: Model>(model: &M, table: &VariableTable, structure: &Structure, t: f64) -> Vec<String> {
     let mut problems = Vec::new();
     let later = t + 0.613 * (t.abs() + 1.0);
-    for (index, deps) in &structure.outputs {
+    for (vr, deps) in &structure.outputs {
         if !deps.as_ref().is_some_and(|d| d.is_empty()) {
             continue;
         }
-        let Some(pos) = table.variables.iter().position(|v| index_of(v) == *index) else { continue };
+        let Some(pos) = table.variables.iter().position(|v| value_reference_of(v) == *vr) else { continue };
         let var = &table.variables[pos];
         let mut moves = false;
         'configs: for config in configurations(table) {
@@ -267,11 +262,12 @@ fn same_variable(a: &str, b: &str) -> bool {
     name(a).is_some() && name(a) == name(b)
 }
 
-/// Dependencies of one unknown: the 1-based indices of the knowns it depends on, or `None`
+/// Dependencies of one unknown: the value references of the knowns it depends on, or `None`
 /// for "every known".
 pub type Dependencies = Option<BTreeSet<usize>>;
 
-/// The ModelStructure: (index of the unknown, its dependencies) for each list.
+/// The ModelStructure: (value reference of the unknown, its dependencies) for each list. Each
+/// standard's writer says it in its own terms (FMI 2.0: 1-based indices).
 #[derive(Debug, Default)]
 pub struct Structure {
     pub outputs: Vec<(usize, Dependencies)>,
@@ -284,8 +280,8 @@ pub fn real_text(v: f64) -> String {
     crate::variables::number(v)
 }
 
-fn index_of(var: &Variable) -> usize {
-    var.value_reference as usize + 1
+fn value_reference_of(var: &Variable) -> usize {
+    var.value_reference as usize
 }
 
 /// The values of every unknown at one point: calculated reals, derivatives, and the states
@@ -459,7 +455,7 @@ fn dependencies<M: Model>(model: &M, table: &VariableTable, unknowns: &[&Variabl
                     let (a, b) = (unknown_value(table, u, &p0), unknown_value(table, u, p1));
                     if let (Some(a), Some(b), Some(set)) = (a, b, dep.as_mut()) {
                         if moved(a, b) {
-                            set.insert(index_of(known.variable()));
+                            set.insert(value_reference_of(known.variable()));
                         }
                     }
                 }
@@ -524,7 +520,7 @@ pub fn structure<M: Model>(model: &M, table: &VariableTable, t: f64) -> Structur
                 || calculated_state(v)
         })
         .collect();
-    let zip = |us: &[&Variable], ds: Vec<Dependencies>| us.iter().map(|u| index_of(u)).zip(ds).collect::<Vec<_>>();
+    let zip = |us: &[&Variable], ds: Vec<Dependencies>| us.iter().map(|u| value_reference_of(u)).zip(ds).collect::<Vec<_>>();
     Structure {
         outputs: zip(&outputs, dependencies(model, table, &outputs, &run_knowns, t, false)),
         derivatives: zip(&derivatives, dependencies(model, table, &derivatives, &run_knowns, t, false)),
@@ -532,223 +528,20 @@ pub fn structure<M: Model>(model: &M, table: &VariableTable, t: f64) -> Structur
     }
 }
 
-type Xml = Writer<Vec<u8>>;
-
-fn open(w: &mut Xml, name: &str, attrs: &[(&str, String)]) {
-    let mut e = BytesStart::new(name);
-    for (k, v) in attrs {
-        e.push_attribute((*k, v.as_str()));
-    }
-    w.write_event(Event::Start(e)).expect("writing to memory");
+/// One standard's modelDescription.xml and its token (FMI 2.0 `guid`, FMI 3.0
+/// `instantiationToken`): a hash of the XML with the token left out.
+#[derive(Clone, Debug)]
+pub struct Document {
+    pub xml: String,
+    pub token: String,
 }
 
-fn empty(w: &mut Xml, name: &str, attrs: &[(&str, String)]) {
-    let mut e = BytesStart::new(name);
-    for (k, v) in attrs {
-        e.push_attribute((*k, v.as_str()));
+impl Document {
+    /// Stamps a draft written with `xml::TOKEN_PLACEHOLDER` with the hash of its content.
+    fn stamped(draft: String) -> Document {
+        let token = crate::xml::token_of(&draft);
+        Document { xml: draft.replacen(crate::xml::TOKEN_PLACEHOLDER, &token, 1), token }
     }
-    w.write_event(Event::Empty(e)).expect("writing to memory");
-}
-
-fn close(w: &mut Xml, name: &str) {
-    w.write_event(Event::End(BytesEnd::new(name))).expect("writing to memory");
-}
-
-fn write_unknowns(w: &mut Xml, list: &str, unknowns: &[(usize, Dependencies)]) {
-    if unknowns.is_empty() {
-        return;
-    }
-    open(w, list, &[]);
-    for (index, deps) in unknowns {
-        let mut attrs = vec![("index", index.to_string())];
-        if let Some(set) = deps {
-            attrs.push(("dependencies", set.iter().map(|i| i.to_string()).collect::<Vec<_>>().join(" ")));
-        }
-        empty(w, "Unknown", &attrs);
-    }
-    close(w, list);
-}
-
-fn yes_no(b: bool) -> String {
-    if b { "true" } else { "false" }.to_string()
-}
-
-fn variable_attributes(v: &Variable) -> Vec<(&'static str, String)> {
-    let mut a = vec![("name", v.name.clone()), ("valueReference", v.value_reference.to_string())];
-    if !v.description.is_empty() {
-        a.push(("description", v.description.clone()));
-    }
-    a.push(("causality", v.causality.as_str().to_string()));
-    a.push(("variability", v.variability.as_str().to_string()));
-    if let Some(i) = v.initial {
-        a.push(("initial", i.as_str().to_string()));
-    }
-    a
-}
-
-fn write_variable(w: &mut Xml, v: &Variable, table: &VariableTable) {
-    open(w, "ScalarVariable", &variable_attributes(v));
-    let mut t = Vec::new();
-    // A calculated variable has no start attribute (a mode's start is only the model's first guess).
-    let start = if v.initial == Some(Initial::Calculated) { None } else { v.start };
-    match start {
-        Some(Start::Real(x)) => t.push(("start", real_text(x))),
-        Some(Start::Integer(n)) => t.push(("start", n.to_string())),
-        Some(Start::Boolean(b)) => t.push(("start", yes_no(b))),
-        None => {}
-    }
-    match v.base_type() {
-        crate::variables::BaseType::Integer => {
-            if let Some(m) = v.min {
-                t.push(("min", (m as i32).to_string()));
-            }
-            if let Some(m) = v.max {
-                t.push(("max", (m as i32).to_string()));
-            }
-            empty(w, "Integer", &t);
-        }
-        crate::variables::BaseType::Boolean => empty(w, "Boolean", &t),
-        _ => {
-            if let Some(of) = v.derivative_of {
-                t.push(("derivative", (table.variables[of as usize].value_reference as usize + 1).to_string()));
-            }
-            if let Some(u) = &v.unit {
-                t.push(("unit", u.clone()));
-            }
-            if let Some(m) = v.min {
-                t.push(("min", real_text(m)));
-            }
-            if let Some(m) = v.max {
-                t.push(("max", real_text(m)));
-            }
-            if let Some(n) = v.nominal {
-                t.push(("nominal", real_text(n)));
-            }
-            empty(w, "Real", &t);
-        }
-    }
-    close(w, "ScalarVariable");
-}
-
-fn write_units(w: &mut Xml, table: &VariableTable) {
-    let used: BTreeSet<&str> = table.variables.iter().filter_map(|v| v.unit.as_deref()).collect();
-    if used.is_empty() {
-        return;
-    }
-    open(w, "UnitDefinitions", &[]);
-    for name in used {
-        // An unknown unit is one of the model's problems (reported with its file and line, and
-        // the model is not exported): the description is still written, without it.
-        let Some(b) = units::lookup(name) else { continue };
-        open(w, "Unit", &[("name", name.to_string())]);
-        let mut attrs = Vec::new();
-        for (k, e) in [("kg", b.kg), ("m", b.m), ("s", b.s), ("A", b.a), ("K", b.k), ("mol", b.mol), ("cd", b.cd), ("rad", b.rad)] {
-            if e != 0 {
-                attrs.push((k, e.to_string()));
-            }
-        }
-        if b.factor != 1.0 {
-            attrs.push(("factor", real_text(b.factor)));
-        }
-        if b.offset != 0.0 {
-            attrs.push(("offset", real_text(b.offset)));
-        }
-        empty(w, "BaseUnit", &attrs);
-        close(w, "Unit");
-    }
-    close(w, "UnitDefinitions");
-}
-
-/// The placeholder the guid replaces after hashing.
-const GUID_PLACEHOLDER: &str = "{00000000-0000-0000-0000-000000000000}";
-
-fn write_xml<M: Model>(table: &VariableTable, structure: &Structure, package: &Package) -> String {
-    let info = M::info();
-    let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
-    w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None))).expect("memory");
-    let mut header = vec![
-        ("fmiVersion", "2.0".to_string()),
-        ("modelName", info.name.into()),
-        ("guid", GUID_PLACEHOLDER.into()),
-        ("description", info.description.into()),
-    ];
-    header.extend(package.attributes());
-    header.push(("generationTool", format!("fmu-runtime {}", env!("CARGO_PKG_VERSION"))));
-    if let Some(date) = package.generation_date_and_time() {
-        header.push(("generationDateAndTime", date));
-    }
-    header.push(("numberOfEventIndicators", table.indicators.len().to_string()));
-    open(&mut w, "fmiModelDescription", &header);
-    empty(
-        &mut w,
-        "ModelExchange",
-        &[
-            ("modelIdentifier", info.name.into()),
-            ("needsExecutionTool", yes_no(false)),
-            ("completedIntegratorStepNotNeeded", yes_no(true)),
-            ("canBeInstantiatedOnlyOncePerProcess", yes_no(false)),
-            ("canNotUseMemoryManagementFunctions", yes_no(true)),
-            ("canGetAndSetFMUstate", yes_no(true)),
-            ("canSerializeFMUstate", yes_no(true)),
-            ("providesDirectionalDerivative", yes_no(true)),
-        ],
-    );
-    empty(
-        &mut w,
-        "CoSimulation",
-        &[
-            ("modelIdentifier", info.name.into()),
-            ("needsExecutionTool", yes_no(false)),
-            ("canHandleVariableCommunicationStepSize", yes_no(true)),
-            ("canInterpolateInputs", yes_no(true)),
-            ("maxOutputDerivativeOrder", "1".into()),
-            ("canRunAsynchronuously", yes_no(false)),
-            ("canBeInstantiatedOnlyOncePerProcess", yes_no(false)),
-            ("canNotUseMemoryManagementFunctions", yes_no(true)),
-            ("canGetAndSetFMUstate", yes_no(true)),
-            ("canSerializeFMUstate", yes_no(true)),
-            ("providesDirectionalDerivative", yes_no(true)),
-        ],
-    );
-    write_units(&mut w, table);
-    open(&mut w, "LogCategories", &[]);
-    for (name, description) in CATEGORIES {
-        empty(&mut w, "Category", &[("name", name.to_string()), ("description", description.to_string())]);
-    }
-    close(&mut w, "LogCategories");
-    let e = info.default_experiment;
-    empty(
-        &mut w,
-        "DefaultExperiment",
-        &[
-            ("startTime", real_text(e.start_time)),
-            ("stopTime", real_text(e.stop_time)),
-            ("tolerance", real_text(crate::integrate::declared_tolerance(M::tolerance_floor()))),
-            ("stepSize", real_text(e.step_size)),
-        ],
-    );
-    open(&mut w, "ModelVariables", &[]);
-    for v in &table.variables {
-        write_variable(&mut w, v, table);
-    }
-    close(&mut w, "ModelVariables");
-    open(&mut w, "ModelStructure", &[]);
-    write_unknowns(&mut w, "Outputs", &structure.outputs);
-    write_unknowns(&mut w, "Derivatives", &structure.derivatives);
-    write_unknowns(&mut w, "InitialUnknowns", &structure.initial_unknowns);
-    close(&mut w, "ModelStructure");
-    close(&mut w, "fmiModelDescription");
-    let mut xml = String::from_utf8(w.into_inner()).expect("UTF-8 in, UTF-8 out");
-    xml.push('\n');
-    xml
-}
-
-/// A guid in the usual 8-4-4-4-12 form from two FNV-1a hashes of the content.
-fn guid_of(content: &str) -> String {
-    let a = fnv1a64(FNV_OFFSET, content.as_bytes());
-    let b = fnv1a64(a ^ 0x9e37_79b9_7f4a_7c15, content.as_bytes());
-    let hex = format!("{a:016x}{b:016x}");
-    format!("{{{}-{}-{}-{}-{}}}", &hex[0..8], &hex[8..12], &hex[12..16], &hex[16..20], &hex[20..32])
 }
 
 impl ModelDescription {
@@ -771,10 +564,8 @@ impl ModelDescription {
         // An output never written is constant too: it is reported once, as never written.
         let fresh: Vec<String> = constant.into_iter().filter(|c| !problems.iter().any(|p| same_variable(p, c))).collect();
         problems.extend(fresh);
-        let draft = write_xml::<M>(&table, &structure, package);
-        let guid = guid_of(&draft);
-        let xml = draft.replacen(GUID_PLACEHOLDER, &guid, 1);
-        ModelDescription { xml, guid, package: *package, table, structure, problems }
+        let fmi2 = Document::stamped(crate::fmi2::xml::write::<M>(&table, &structure, package));
+        ModelDescription { fmi2, package: *package, table, structure, problems }
     }
 }
 
@@ -786,12 +577,14 @@ mod tests {
     #[test]
     fn dependencies_come_from_the_equations() {
         let d = ModelDescription::of::<Decay>();
-        // indices: a=1, u=2, x=3, der(x)=4, y=5, w=6
+        // value references: a=0, u=1, x=2, der(x)=3, y=4, w=5
         let s = &d.structure;
         let set = |v: &[usize]| Some(v.iter().copied().collect::<BTreeSet<_>>());
-        assert_eq!(s.outputs, vec![(5, set(&[3])), (6, set(&[2]))]);
-        assert_eq!(s.derivatives, vec![(4, set(&[2, 3]))]);
-        assert_eq!(s.initial_unknowns, vec![(4, set(&[1, 2, 3])), (5, set(&[3])), (6, set(&[1, 2]))]);
+        assert_eq!(s.outputs, vec![(4, set(&[2])), (5, set(&[1]))]);
+        assert_eq!(s.derivatives, vec![(3, set(&[1, 2]))]);
+        assert_eq!(s.initial_unknowns, vec![(3, set(&[0, 1, 2])), (4, set(&[2])), (5, set(&[0, 1]))]);
+        // FMI 2.0 says it in 1-based indices.
+        assert!(d.fmi2.xml.contains(r#"<Unknown index="4" dependencies="2 3"/>"#), "{}", d.fmi2.xml);
     }
 
     #[test]
@@ -812,7 +605,7 @@ mod tests {
         assert_eq!(d.problems.len(), 2, "{:#?}", d.problems);
         assert!(d.problems[0].contains("'length' has the unit 'furlong'"), "{}", d.problems[0]);
         assert!(d.problems[1].contains("'count' has no unit"), "{}", d.problems[1]);
-        assert!(!d.xml.contains(r#"<Unit name="furlong">"#));
+        assert!(!d.fmi2.xml.contains(r#"<Unit name="furlong">"#));
     }
 
     #[test]
@@ -824,56 +617,56 @@ mod tests {
         assert!(p.contains("output 'stuck' depends on nothing") && p.contains("Fix:"), "{p}");
         // An output only time moves ('clock') is a signal: FMI lists it with no dependencies;
         // so is one only a tunable parameter moves ('echo').
-        assert!(d.xml.contains(r#"name="clock""#) && d.xml.contains(r#"name="echo""#));
+        assert!(d.fmi2.xml.contains(r#"name="clock""#) && d.fmi2.xml.contains(r#"name="echo""#));
     }
 
     #[test]
     fn calculated_states_are_initial_unknowns_without_start() {
         let d = ModelDescription::of::<crate::test_model::Relax>();
-        // indices: p=1, g=2, steady=3, u=4, T=5, der(T)=6, y=7
+        // value references: p=0, g=1, steady=2, u=3, T=4, der(T)=5, y=6
         let set = |v: &[usize]| Some(v.iter().copied().collect::<BTreeSet<_>>());
         let s = &d.structure;
         // At initialization T = u + p/g (or u): it depends on every parameter and the input,
         // and so does y = T. der(T) = p - g (T - u) is 0 or p: the input cancels out.
-        assert_eq!(s.initial_unknowns, vec![(5, set(&[1, 2, 3, 4])), (6, set(&[1, 2, 3])), (7, set(&[1, 2, 3, 4]))]);
+        assert_eq!(s.initial_unknowns, vec![(4, set(&[0, 1, 2, 3])), (5, set(&[0, 1, 2])), (6, set(&[0, 1, 2, 3]))]);
         // While stepping, T is a known like any state.
-        assert_eq!(s.outputs, vec![(7, set(&[5]))]);
-        assert_eq!(s.derivatives, vec![(6, set(&[4, 5]))]);
-        assert!(d.xml.contains(r#"<ScalarVariable name="T" valueReference="4" description="temperature" causality="local" variability="continuous" initial="calculated">"#), "{}", d.xml);
+        assert_eq!(s.outputs, vec![(6, set(&[4]))]);
+        assert_eq!(s.derivatives, vec![(5, set(&[3, 4]))]);
+        assert!(d.fmi2.xml.contains(r#"<ScalarVariable name="T" valueReference="4" description="temperature" causality="local" variability="continuous" initial="calculated">"#), "{}", d.fmi2.xml);
     }
 
     #[test]
     fn xml_is_escaped_and_guid_is_a_content_hash() {
         let d = ModelDescription::of::<Decay>();
-        assert!(d.xml.contains("test &lt;model&gt; &amp; &quot;quotes&quot;"), "{}", d.xml);
-        assert!(d.xml.contains(&format!("guid=\"{}\"", d.guid)));
-        assert!(!d.xml.contains(GUID_PLACEHOLDER));
-        assert_eq!(d.guid, ModelDescription::of::<Decay>().guid, "deterministic");
-        assert!(d.xml.contains(r#"<Real unit="Hz/s" derivative="3"/>"#) || d.xml.contains(r#"derivative="3""#));
-        assert!(d.xml.contains(r#"<Unit name="Hz">"#));
+        assert!(d.fmi2.xml.contains("test &lt;model&gt; &amp; &quot;quotes&quot;"), "{}", d.fmi2.xml);
+        assert!(d.fmi2.xml.contains(&format!("guid=\"{}\"", d.fmi2.token)));
+        assert!(!d.fmi2.xml.contains(crate::xml::TOKEN_PLACEHOLDER));
+        assert_eq!(d.fmi2.token, ModelDescription::of::<Decay>().fmi2.token, "deterministic");
+        assert!(d.fmi2.xml.contains(r#"<Real unit="Hz/s" derivative="3"/>"#) || d.fmi2.xml.contains(r#"derivative="3""#));
+        assert!(d.fmi2.xml.contains(r#"<Unit name="Hz">"#));
     }
 
     #[test]
     fn modes_are_discrete_integer_locals_and_indicators_are_counted() {
         let d = ModelDescription::of::<crate::test_model::Block>();
-        assert!(d.xml.contains(r#"numberOfEventIndicators="1""#), "{}", d.xml);
+        assert!(d.fmi2.xml.contains(r#"numberOfEventIndicators="1""#), "{}", d.fmi2.xml);
         assert!(
-            d.xml.contains(r#"name="friction_mode" valueReference="8" description="-1 slipping backwards, 0 stuck, 1 slipping forwards" causality="local" variability="discrete" initial="calculated">"#),
+            d.fmi2.xml.contains(r#"name="friction_mode" valueReference="8" description="-1 slipping backwards, 0 stuck, 1 slipping forwards" causality="local" variability="discrete" initial="calculated">"#),
             "{}",
-            d.xml
+            d.fmi2.xml
         );
-        assert!(d.xml.contains(r#"<Integer min="-1" max="1"/>"#), "no start for a calculated mode: {}", d.xml);
-        assert!(d.xml.contains(r#"name="state_events""#));
+        assert!(d.fmi2.xml.contains(r#"<Integer min="-1" max="1"/>"#), "no start for a calculated mode: {}", d.fmi2.xml);
+        assert!(d.fmi2.xml.contains(r#"name="state_events""#));
         // Variable::is_mode, which the instance uses to skip mode bookkeeping: the modes, not other integers.
         let table = crate::model::declare::<crate::test_model::Block>().2;
         let modes: Vec<&str> = table.variables.iter().filter(|v| v.is_mode()).map(|v| v.name.as_str()).collect();
         assert_eq!(modes, ["friction_mode", "state_events"]);
         assert!(!crate::model::declare::<crate::test_model::Careless>().2.variables.iter().any(|v| v.is_mode()), "an integer parameter is no mode");
-        // A mode is no known: no dependency names it (x=5, v=7, u=4 are; friction_mode is 9).
+        // A mode is no known: no dependency names it (value references x=4, v=6, u=3 are; friction_mode is 8).
         for (_, deps) in d.structure.derivatives.iter().chain(&d.structure.outputs) {
-            assert!(!deps.as_ref().is_some_and(|s| s.contains(&9)));
+            assert!(!deps.as_ref().is_some_and(|s| s.contains(&8)));
         }
-        assert_eq!(ModelDescription::of::<Decay>().xml.contains(r#"numberOfEventIndicators="0""#), true);
+        assert_eq!(ModelDescription::of::<Decay>().fmi2.xml.contains(r#"numberOfEventIndicators="0""#), true);
     }
 
     #[test]
@@ -881,17 +674,17 @@ mod tests {
         let package = Package { version: "1.2.3", authors: "The X contributors:Ada", license: "MIT", source_date_epoch: Some("1764625589") };
         let d = ModelDescription::with_package::<Decay>(&package);
         assert!(
-            d.xml.contains(r#"author="The X contributors, Ada" version="1.2.3" copyright="Copyright (c) 2025 The X contributors, Ada" license="MIT" generationTool="fmu-runtime"#),
+            d.fmi2.xml.contains(r#"author="The X contributors, Ada" version="1.2.3" copyright="Copyright (c) 2025 The X contributors, Ada" license="MIT" generationTool="fmu-runtime"#),
             "{}",
-            d.xml
+            d.fmi2.xml
         );
-        assert!(d.xml.contains(r#"generationDateAndTime="2025-12-01T21:46:29Z" numberOfEventIndicators="0""#), "{}", d.xml);
+        assert!(d.fmi2.xml.contains(r#"generationDateAndTime="2025-12-01T21:46:29Z" numberOfEventIndicators="0""#), "{}", d.fmi2.xml);
         // The same package gives the same guid; another date another one (the date is in the hashed XML).
-        assert_eq!(d.guid, ModelDescription::with_package::<Decay>(&package).guid);
+        assert_eq!(d.fmi2.token, ModelDescription::with_package::<Decay>(&package).fmi2.token);
         let later = Package { source_date_epoch: Some("1764625590"), ..package };
-        assert_ne!(d.guid, ModelDescription::with_package::<Decay>(&later).guid);
+        assert_ne!(d.fmi2.token, ModelDescription::with_package::<Decay>(&later).fmi2.token);
         // Without a package (or an unreadable date) the attributes are left out, not made up.
-        let bare = ModelDescription::of::<Decay>().xml;
+        let bare = ModelDescription::of::<Decay>().fmi2.xml;
         let header = bare.lines().find(|l| l.starts_with("<fmiModelDescription")).unwrap();
         for attribute in [" author=", " version=", " copyright=", " license=", " generationDateAndTime="] {
             assert!(!header.contains(attribute), "{attribute}: {header}");

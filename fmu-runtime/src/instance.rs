@@ -1,38 +1,24 @@
-//! One FMU instance: its mode in the FMI 2.0 state machine, its values, its solver, its saved
-//! states, and every check a call must pass. The C layer (`fmi2`) has already checked pointers
-//! and that the call is legal in the current mode; everything here is safe Rust.
+//! One FMU instance, in neither standard's words: its phase, its values, its solver, its saved
+//! states, and every check a call must pass. The adapters (`fmi2`, `fmi3`) have already checked
+//! pointers and that the call is legal in the current phase; everything here is safe Rust.
 //!
 //! Errors from misuse (a wrong value reference, a NaN, a parameter set after initialization)
 //! refuse the call and leave the instance as it was, so a master can go on. Errors of the model
 //! itself (a parameter out of its physical range at initialization) move the instance to the
-//! Error mode; a step the solver cannot complete returns fmi2Discard and leaves the instance
+//! Error phase; a step the solver cannot complete returns Status::Discard and leaves the instance
 //! at the last communication point.
 
 use std::sync::Arc;
 
-use crate::fmi2::types::{fmi2Discard, fmi2Error, fmi2OK, fmi2Status, fmi2Warning};
 use crate::integrate::{declared_tolerance, negligible_interval, Advanced, InputMotion, Integrator};
-use crate::lifecycle::Mode;
 use crate::log::Logger;
 use crate::model::{evaluate, Model, ModelInfo, RuntimeVariables};
+use crate::phase::Phase;
+pub use crate::status::{CallResult, Failure};
+use crate::status::Status;
 use crate::state::{Experiment, Shape, Snapshot, SnapshotStore};
 use crate::values::{EventIndicators, Knowns, ModeUpdate, Values};
 use crate::variables::{BaseType, Slot, Variable, VariableTable};
-
-/// Why a call did not return fmi2OK: the status to return and the message for the logger.
-#[derive(Debug)]
-pub struct Failure {
-    pub status: fmi2Status,
-    pub message: String,
-}
-
-impl Failure {
-    pub fn error(message: impl Into<String>) -> Self {
-        Failure { status: fmi2Error, message: message.into() }
-    }
-}
-
-pub type CallResult<T = ()> = Result<T, Failure>;
 
 /// Time events one communication step may hold before the step is refused (a model announcing
 /// events that do not advance would otherwise loop forever).
@@ -151,7 +137,7 @@ pub struct Instance<M: Model> {
     info: ModelInfo,
     guid: &'static str,
     pub logger: Logger,
-    pub mode: Mode,
+    pub phase: Phase,
     experiment: Experiment,
     values: Values,
     /// The continuous states at `time` (after initialization; before it, the start values).
@@ -217,7 +203,7 @@ impl<M: Model> Instance<M> {
             info: M::info(),
             guid,
             logger,
-            mode: Mode::Instantiated,
+            phase: Phase::Instantiated,
             experiment: Experiment::default(),
             values,
             states: vec![0.0; n_states],
@@ -254,7 +240,7 @@ impl<M: Model> Instance<M> {
 
     /// Sends a debug message (only with debug logging on).
     pub fn debug(&self, message: &str) {
-        self.logger.log(fmi2OK, message);
+        self.logger.log(Status::Ok, message);
     }
 
     /// The states at initialization: the start values, and the model's own initial values of
@@ -284,7 +270,7 @@ impl<M: Model> Instance<M> {
     /// since it was last computed.
     fn refresh_only(&mut self, need: Fresh) {
         if self.stale {
-            if matches!(self.mode, Mode::Instantiated | Mode::InitializationMode) {
+            if self.phase.is_before_initialization_end() {
                 // A failure leaves NaN in the calculated states; exiting initialization reports it.
                 let _ = self.load_state_starts();
             }
@@ -338,7 +324,7 @@ impl<M: Model> Instance<M> {
 
     /// fmi2SetReal/Integer/Boolean: all values are checked before any is written.
     pub fn set<T: FmiValue>(&mut self, vrs: &[u32], vals: &[T]) -> CallResult {
-        let before_init = matches!(self.mode, Mode::Instantiated | Mode::InitializationMode);
+        let before_init = self.phase.is_before_initialization_end();
         for (vr, v) in vrs.iter().zip(vals) {
             let var = self.variable(*vr, T::TYPE)?;
             let settable = if before_init { var.is_settable_before_initialization() } else { var.is_settable_while_stepping() };
@@ -350,7 +336,7 @@ impl<M: Model> Instance<M> {
                     _ if !before_init => "only inputs and tunable parameters can be set while stepping",
                     _ => "it is computed by the FMU",
                 };
-                return Err(Failure::error(format!("cannot set '{}' in mode {}: {why}", var.name, self.mode.name())));
+                return Err(Failure::error(format!("cannot set '{}' {}: {why}", var.name, self.phase.words())));
             }
             T::check(var, *v).map_err(|e| Failure::error(format!("refused: {e}")))?;
         }
@@ -391,9 +377,9 @@ impl<M: Model> Instance<M> {
         if let (Interface::CoSimulation, Some(asked), Some(floor)) = (self.interface, tolerance, M::tolerance_floor()) {
             if asked > floor {
                 self.logger.log(
-                    fmi2Warning,
+                    Status::Warning,
                     &format!(
-                        "tolerance {asked} from fmi2SetupExperiment is looser than this FMU's floor {floor}: its solver integrates at {floor} \
+                        "tolerance {asked} set by the master is looser than this FMU's floor {floor}: its solver integrates at {floor} \
                          (at looser tolerances its errors grow far beyond the tolerance; see the FMU's documentation)"
                     ),
                 );
@@ -411,7 +397,7 @@ impl<M: Model> Instance<M> {
     }
 
     pub fn enter_initialization_mode(&mut self) -> CallResult {
-        self.mode = Mode::InitializationMode;
+        self.phase = Phase::Initialization;
         self.time = self.experiment.start_time;
         self.stale = true;
         self.debug("entered initialization mode");
@@ -423,20 +409,20 @@ impl<M: Model> Instance<M> {
     /// message naming the parameter.
     pub fn exit_initialization_mode(&mut self) -> CallResult {
         if let Err(message) = self.check_parameters() {
-            self.mode = Mode::Error;
+            self.phase = Phase::Error;
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
         if let Err(message) = self.load_state_starts() {
-            self.mode = Mode::Error;
+            self.phase = Phase::Error;
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
         self.settle_initial_modes()?;
         if let Err(message) = crate::model::check_finite_start(&*self.model, &self.table, self.time, &self.values, &self.states) {
-            self.mode = Mode::Error;
+            self.phase = Phase::Error;
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
         if self.interface == Interface::ModelExchange {
-            self.mode = Mode::EventMode;
+            self.phase = Phase::Event;
             self.stale = true;
             self.debug("initialization done, event mode");
             return Ok(());
@@ -444,11 +430,11 @@ impl<M: Model> Instance<M> {
         match self.make_integrator() {
             Ok(integrator) => self.integrator = Some(integrator),
             Err(message) => {
-                self.mode = Mode::Error;
+                self.phase = Phase::Error;
                 return Err(Failure::error(message));
             }
         }
-        self.mode = Mode::StepComplete;
+        self.phase = Phase::Stepping;
         self.stale = true;
         self.debug("initialization done");
         Ok(())
@@ -494,17 +480,17 @@ impl<M: Model> Instance<M> {
         }
         let tolerance = 64.0 * f64::EPSILON * self.time.abs().max(t.abs()) + 1e-6 * h;
         if let Some(stop) = self.experiment.stop_time {
-            // FMI 2.0, fmi2SetupExperiment: computing past a defined stop time is an error.
+            // FMI 2.0 and 3.0: computing past a defined stop time is an error.
             if t + h > stop + tolerance {
                 return Err(Failure::error(format!(
-                    "the step to {} s would pass the stop time {stop} s set by fmi2SetupExperiment",
+                    "the step to {} s would pass the experiment's stop time {stop} s",
                     t + h
                 )));
             }
         }
         if (t - self.time).abs() > tolerance {
             return Err(Failure::error(format!(
-                "communication point {t} s does not match this instance's time {} s (use fmi2SetFMUstate to go back)",
+                "communication point {t} s does not match this instance's time {} s (restore a saved FMU state to go back)",
                 self.time
             )));
         }
@@ -518,9 +504,9 @@ impl<M: Model> Instance<M> {
         let result = self.integrate(t, &mut x, t_end, &slopes);
         if let Err(message) = result {
             (self.buffers.x, self.buffers.slopes) = (x, slopes);
-            self.mode = Mode::StepFailed;
+            self.phase = Phase::StepFailed;
             return Err(Failure {
-                status: fmi2Discard,
+                status: Status::Discard,
                 message: format!("step from {t} s to {t_end} s discarded, the instance stays at {t} s: {message}"),
             });
         }
@@ -645,7 +631,7 @@ impl<M: Model> Instance<M> {
             match how {
                 Advanced::Reached if next == t_end => return Ok(()),
                 Advanced::Reached => {
-                    self.logger.log(fmi2OK, &format!("time event at t = {next} s"));
+                    self.logger.log(Status::Ok, &format!("time event at t = {next} s"));
                     now = next;
                 }
                 Advanced::Crossing { time, indicator } => {
@@ -662,7 +648,7 @@ impl<M: Model> Instance<M> {
                         at_one_instant = 0;
                     }
                     last_event = time;
-                    self.logger.log(fmi2OK, &format!("state event at t = {time} s: '{}' crossed zero", self.table.indicators[indicator].0));
+                    self.logger.log(Status::Ok, &format!("state event at t = {time} s: '{}' crossed zero", self.table.indicators[indicator].0));
                     if let Some(counter) = self.runtime.state_events {
                         self.values.integers[counter.0] = self.values.integers[counter.0].saturating_add(1);
                     }
@@ -734,7 +720,7 @@ impl<M: Model> Instance<M> {
     fn settle_initial_modes(&mut self) -> CallResult {
         let (known, mut x) = (self.values.known.clone(), self.states.clone());
         if let Err(message) = self.settle_modes(self.time, &known, &mut x) {
-            self.mode = Mode::Error;
+            self.phase = Phase::Error;
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
         self.states = x;
@@ -743,7 +729,7 @@ impl<M: Model> Instance<M> {
     }
 
     pub fn terminate(&mut self) -> CallResult {
-        self.mode = Mode::Terminated;
+        self.phase = Phase::Terminated;
         self.debug("terminated");
         Ok(())
     }
@@ -757,7 +743,7 @@ impl<M: Model> Instance<M> {
         self.previous_inputs = None;
         self.input_slopes.fill(0.0);
         self.input_curvatures.fill(0.0);
-        self.mode = Mode::Instantiated;
+        self.phase = Phase::Instantiated;
         let _ = self.load_state_starts();
         self.stale = true;
         self.knowns_set = true;
@@ -849,7 +835,7 @@ impl<M: Model> Instance<M> {
     // ---- Model Exchange -------------------------------------------------------------------
 
     pub fn enter_event_mode(&mut self) -> CallResult {
-        self.mode = Mode::EventMode;
+        self.phase = Phase::Event;
         Ok(())
     }
 
@@ -885,7 +871,7 @@ impl<M: Model> Instance<M> {
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> CallResult {
-        self.mode = Mode::ContinuousTimeMode;
+        self.phase = Phase::ContinuousTime;
         Ok(())
     }
 
@@ -970,7 +956,7 @@ impl<M: Model> Instance<M> {
             slots.push((i, state, var.nominal.unwrap_or(1.0).abs()));
         }
         // During initialization the calculated states are unknowns too, computed from the knowns.
-        let initializing = matches!(self.mode, Mode::Instantiated | Mode::InitializationMode);
+        let initializing = self.phase.is_before_initialization_end();
         for vr in unknowns {
             let var = self.variable(*vr, BaseType::Real)?;
             let calculated_state = initializing && var.initial == Some(crate::variables::Initial::Calculated) && self.table.state_index(var).is_some();
@@ -1084,7 +1070,7 @@ impl<M: Model> Instance<M> {
 
     fn snapshot(&self) -> Snapshot {
         Snapshot {
-            mode: self.mode,
+            phase: self.phase,
             time: self.time,
             experiment: self.experiment,
             values: self.values.clone(),
@@ -1098,8 +1084,8 @@ impl<M: Model> Instance<M> {
     }
 
     fn restore(&mut self, s: Snapshot) -> CallResult {
-        let initialized = !matches!(s.mode, Mode::Instantiated | Mode::InitializationMode);
-        self.mode = s.mode;
+        let initialized = !s.phase.is_before_initialization_end();
+        self.phase = s.phase;
         self.time = s.time;
         self.experiment = s.experiment;
         self.values = s.values;
@@ -1170,7 +1156,7 @@ impl<M: Model> Instance<M> {
 
     /// Sends the message of a failed call to the master's logger.
     pub fn report(&self, failure: &Failure) {
-        let status = if failure.status == fmi2OK { fmi2Warning } else { failure.status };
+        let status = if failure.status == Status::Ok { Status::Warning } else { failure.status };
         self.logger.log(status, &failure.message);
     }
 }
@@ -1182,7 +1168,7 @@ mod tests {
 
     // Decay's value references: a=0, u=1, x=2, der(x)=3, y=4, w=5.
     fn initialized() -> Instance<Decay> {
-        let mut i = Instance::<Decay>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i = Instance::<Decay>::new("{test}", Logger::silent());
         i.setup_experiment(Some(1e-8), 0.0, None).unwrap();
         i.enter_initialization_mode().unwrap();
         i.exit_initialization_mode().unwrap();
@@ -1220,7 +1206,7 @@ mod tests {
 
     #[test]
     fn out_of_range_parameters_are_refused_and_named() {
-        let mut i = Instance::<Decay>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i = Instance::<Decay>::new("{test}", Logger::silent());
         let err = i.set(&[0], &[-1.0]).unwrap_err();
         assert!(err.message.contains("a = -1") && err.message.contains("minimum"), "{}", err.message);
         assert!(i.set(&[1], &[f64::NAN]).is_err());
@@ -1241,7 +1227,7 @@ mod tests {
 
     #[test]
     fn a_defined_stop_time_cannot_be_passed() {
-        let mut i = Instance::<Decay>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i = Instance::<Decay>::new("{test}", Logger::silent());
         i.setup_experiment(None, 0.0, Some(0.3)).unwrap();
         i.enter_initialization_mode().unwrap();
         i.exit_initialization_mode().unwrap();
@@ -1273,7 +1259,7 @@ mod tests {
         // x' = 0 before t_on = 0.35 s, 1 after: x(1) = 0.65 s, although the communication step
         // 0.5 s straddles the switch. The segment ending at t_on still sees the new slope in its
         // last stage (the equations have no discrete mode), which costs ~1e-9 s here.
-        let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::silent());
         i.setup_experiment(None, 0.0, None).unwrap();
         i.enter_initialization_mode().unwrap();
         i.exit_initialization_mode().unwrap();
@@ -1286,14 +1272,14 @@ mod tests {
 
     #[test]
     fn model_exchange_hands_the_states_to_the_master() {
-        let mut i = Instance::<Decay>::for_interface(Interface::ModelExchange, "{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i = Instance::<Decay>::for_interface(Interface::ModelExchange, "{test}", Logger::silent());
         i.setup_experiment(None, 0.0, None).unwrap();
         i.enter_initialization_mode().unwrap();
         let mut x = [0.0];
         i.get_continuous_states(&mut x).unwrap();
         assert_eq!(x, [1.0], "the start value");
         i.exit_initialization_mode().unwrap();
-        assert_eq!(i.mode, Mode::EventMode);
+        assert_eq!(i.phase, Phase::Event);
         assert_eq!(i.new_discrete_states().unwrap().next_event_time, None);
         i.enter_continuous_time_mode().unwrap();
         i.set_time(0.5).unwrap();
@@ -1351,7 +1337,7 @@ mod tests {
         // extrapolation u(t) = 1 + (t - 1) over step 2, without it u = 1. The difference at t = 2
         // is the response to a unit ramp: (1 - (1 - e^-a)/a)/a (a = 2).
         let run = |extrapolate: bool| {
-            let mut i = Instance::<Decay>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+            let mut i = Instance::<Decay>::new("{test}", Logger::silent());
             let flag = i.table().by_name("extrapolate_inputs").expect("declared for models with inputs").value_reference;
             i.set(&[flag], &[extrapolate]).unwrap();
             i.setup_experiment(Some(1e-10), 0.0, None).unwrap();
@@ -1386,7 +1372,7 @@ mod tests {
     fn an_event_a_rounding_away_from_the_step_end_does_not_fail_the_step() {
         // A master's float time: 1 ms summed 10 000 times lands ~1e-13 s off 10 s, where the
         // event sits; the step must not ask the solver for a 1e-13 s segment (diffsol refuses).
-        let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::silent());
         let t_on = i.table().by_name("t_on").unwrap().value_reference;
         i.set(&[t_on], &[10.0]).unwrap();
         i.setup_experiment(None, 0.0, None).unwrap();
@@ -1407,7 +1393,7 @@ mod tests {
     }
 
     fn block_of<M: Model>(interface: Interface) -> Instance<M> {
-        let mut i = Instance::<M>::for_interface(interface, "{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i = Instance::<M>::for_interface(interface, "{test}", Logger::silent());
         i.setup_experiment(Some(1e-8), 0.0, None).unwrap();
         i.enter_initialization_mode().unwrap();
         i.exit_initialization_mode().unwrap();
@@ -1479,7 +1465,7 @@ mod tests {
     fn the_solver_steps_past_communication_points_but_not_past_a_time_event_or_the_stop_time() {
         // x' = 0 until t_on = 0.35 s: the error estimate is zero, the steps double each time,
         // so they reach far past 10 ms communication steps; none passes t_on or the stop time.
-        let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::silent());
         i.setup_experiment(None, 0.0, Some(1.0)).unwrap();
         i.enter_initialization_mode().unwrap();
         i.exit_initialization_mode().unwrap();
@@ -1585,7 +1571,7 @@ mod tests {
     /// applied force breaks loose slips from v = 0: its new indicator, mode x v, is exactly 0.
     #[test]
     fn a_mode_switch_whose_indicator_starts_at_zero_tells_the_master_to_restart() {
-        let mut i = Instance::<crate::test_model::Block>::for_interface(Interface::ModelExchange, "{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i = Instance::<crate::test_model::Block>::for_interface(Interface::ModelExchange, "{test}", Logger::silent());
         i.setup_experiment(Some(1e-4), 0.0, None).unwrap();
         i.enter_initialization_mode().unwrap();
         let v = i.table().by_name("v").unwrap().value_reference;
@@ -1651,7 +1637,7 @@ mod tests {
         // without input extrapolation.
         for extrapolate in [false, true] {
             let decay = || {
-                let mut i = Instance::<Decay>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+                let mut i = Instance::<Decay>::new("{test}", Logger::silent());
                 let flag = i.table().by_name("extrapolate_inputs").unwrap().value_reference;
                 i.set(&[flag], &[extrapolate]).unwrap();
                 i.setup_experiment(Some(1e-8), 0.0, None).unwrap();
@@ -1675,7 +1661,7 @@ mod tests {
         }
         // Through a time event, with steps reaching far past the communication points.
         let switch = || {
-            let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+            let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::silent());
             i.setup_experiment(None, 0.0, None).unwrap();
             i.enter_initialization_mode().unwrap();
             i.exit_initialization_mode().unwrap();
@@ -1708,7 +1694,7 @@ mod tests {
         let mut i = initialized();
         i.do_step(0.0, 0.5).unwrap();
         i.reset().unwrap();
-        assert_eq!(i.mode, Mode::Instantiated);
+        assert_eq!(i.phase, Phase::Instantiated);
         i.enter_initialization_mode().unwrap();
         assert_eq!(get(&mut i, 2), 1.0);
     }
@@ -1723,7 +1709,7 @@ mod tests {
     fn calculated_states_start_where_the_model_says() {
         use crate::test_model::Relax;
         // vrs: p=0, g=1, steady=2, u=3, T=4, der(T)=5, y=6
-        let mut i: Instance<Relax> = Instance::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i: Instance<Relax> = Instance::new("{test}", Logger::silent());
         i.setup_experiment(None, 0.0, None).unwrap();
         i.enter_initialization_mode().unwrap();
         i.set(&[3], &[20.0]).unwrap();
@@ -1751,12 +1737,12 @@ mod tests {
     #[test]
     fn a_calculated_state_without_a_finite_value_fails_initialization_by_name() {
         use crate::test_model::Relax;
-        let mut i: Instance<Relax> = Instance::new("{test}", Logger::new(None, std::ptr::null_mut(), "t", false));
+        let mut i: Instance<Relax> = Instance::new("{test}", Logger::silent());
         i.enter_initialization_mode().unwrap();
         i.set(&[1], &[0.0]).unwrap(); // g = 0: no steady state (p/0)
         let e = i.exit_initialization_mode().unwrap_err();
         assert!(e.message.contains("'T'") && e.message.contains("initial value"), "{}", e.message);
-        assert_eq!(i.mode, Mode::Error);
+        assert_eq!(i.phase, Phase::Error);
     }
 }
 

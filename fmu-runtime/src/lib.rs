@@ -35,9 +35,9 @@
 //!
 //! // In a cdylib crate this one line makes the FMU: fmu_runtime::export_fmu!(Decay);
 //! let description = fmu_runtime::description::ModelDescription::of::<Decay>();
-//! assert!(description.xml.contains(r#"<ScalarVariable name="rate" valueReference="0""#));
+//! assert!(description.fmi2.xml.contains(r#"<ScalarVariable name="rate" valueReference="0""#));
 //! // y depends on the state x (index 2), der(x) on x; at initialization also on rate (index 1).
-//! assert!(description.xml.contains(r#"<Unknown index="4" dependencies="2"/>"#));
+//! assert!(description.fmi2.xml.contains(r#"<Unknown index="4" dependencies="2"/>"#));
 //! ```
 pub mod activity_report;
 pub mod description;
@@ -47,14 +47,16 @@ pub mod fmi2;
 pub mod instance;
 pub mod integrate;
 pub mod rk;
-pub mod lifecycle;
 pub mod log;
 pub mod model;
+pub mod phase;
 pub mod state;
+pub mod status;
 pub mod testing;
 pub mod units;
 pub mod values;
 pub mod variables;
+pub mod xml;
 
 #[cfg(test)]
 mod test_model;

@@ -1,11 +1,10 @@
-//! The FMI logger of one instance: messages reach the master through its callback, with the
-//! instance name, a status and a category declared in modelDescription.xml `LogCategories`.
-
-#![allow(non_upper_case_globals)]
+//! The logger of one instance: messages reach the master through a [`LogSink`] (its standard's
+//! callback, set by the adapter), with a status and a category declared in modelDescription.xml
+//! `LogCategories`.
 
 use std::ffi::CString;
 
-use crate::fmi2::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Error, fmi2Fatal, fmi2OK, fmi2Status, fmi2Warning, fmi2Discard};
+use crate::status::Status;
 
 /// The log categories every FMU declares (name, description), in modelDescription order.
 pub const CATEGORIES: &[(&str, &str)] = &[
@@ -17,47 +16,42 @@ pub const CATEGORIES: &[(&str, &str)] = &[
 ];
 
 /// The category of messages with a given status.
-pub fn category_of(status: fmi2Status) -> &'static str {
+pub fn category_of(status: Status) -> &'static str {
     match status {
-        fmi2Warning => "logStatusWarning",
-        fmi2Discard => "logStatusDiscard",
-        fmi2Error => "logStatusError",
-        fmi2Fatal => "logStatusFatal",
-        _ => "logEvents",
+        Status::Warning => "logStatusWarning",
+        Status::Discard => "logStatusDiscard",
+        Status::Error => "logStatusError",
+        Status::Fatal => "logStatusFatal",
+        Status::Ok => "logEvents",
     }
 }
 
+/// Where an instance's messages go: the master's logger callback, in its standard's form.
+/// FMI lets the master call an instance from any thread (not concurrently), so the sink moves
+/// with the instance.
+pub trait LogSink: Send {
+    fn send(&self, status: Status, category: &str, message: &str);
+}
+
 pub struct Logger {
-    callback: Option<fmi2CallbackLogger>,
-    environment: fmi2ComponentEnvironment,
-    instance_name: CString,
-    /// fmi2SetDebugLogging: debug messages (category logEvents) are sent only when on.
-    /// Warnings, discards, errors and fatal errors are always sent.
+    sink: Option<Box<dyn LogSink>>,
+    /// Debug logging (fmi2SetDebugLogging, fmi3SetDebugLogging): debug messages (category
+    /// logEvents) are sent only when on. Warnings, discards, errors and fatal errors are always sent.
     debug_on: bool,
     enabled: Vec<bool>,
 }
 
-// SAFETY: the environment pointer belongs to the master, which hands it to us to be passed back
-// unchanged to its own logger; FMI 2.0 lets the master call an instance from any thread (not
-// concurrently), so the logger moves with the instance.
-unsafe impl Send for Logger {}
-
 impl Logger {
-    pub fn new(callback: Option<fmi2CallbackLogger>, environment: fmi2ComponentEnvironment, instance_name: &str, debug_on: bool) -> Self {
-        Logger {
-            callback,
-            environment,
-            instance_name: to_c_string(instance_name),
-            debug_on,
-            enabled: vec![true; CATEGORIES.len()],
-        }
+    pub fn new(sink: Option<Box<dyn LogSink>>, debug_on: bool) -> Self {
+        Logger { sink, debug_on, enabled: vec![true; CATEGORIES.len()] }
     }
 
-    pub fn instance_name(&self) -> &str {
-        self.instance_name.to_str().unwrap_or("?")
+    /// A logger that sends nothing (the runtime's own tools and tests).
+    pub fn silent() -> Self {
+        Self::new(None, false)
     }
 
-    /// fmi2SetDebugLogging: switch debug logging, for all categories (empty list) or the named ones.
+    /// Switches debug logging, for all categories (empty list) or the named ones.
     pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> Result<(), String> {
         let mut indices = Vec::new();
         for c in categories {
@@ -78,21 +72,17 @@ impl Logger {
         Ok(())
     }
 
-    /// Sends a message with a status. Debug (fmi2OK) messages go out only with debug logging on.
-    pub fn log(&self, status: fmi2Status, message: &str) {
+    /// Sends a message with a status. Debug (`Status::Ok`) messages go out only with debug
+    /// logging on.
+    pub fn log(&self, status: Status, message: &str) {
         let category = category_of(status);
         let enabled = CATEGORIES.iter().position(|(n, _)| *n == category).map(|i| self.enabled[i]).unwrap_or(true);
-        if status == fmi2OK && !(self.debug_on && enabled) {
+        if status == Status::Ok && !(self.debug_on && enabled) {
             return;
         }
-        let Some(callback) = self.callback else { return };
-        // The message is the format string: double every '%' so that a printf-style logger
-        // prints it verbatim; no variadic arguments follow.
-        let text = to_c_string(&message.replace('%', "%%"));
-        let category = to_c_string(category);
-        // SAFETY: the master gave this callback for exactly this use; all strings are valid,
-        // NUL-terminated and outlive the call.
-        unsafe { callback(self.environment, self.instance_name.as_ptr(), status, category.as_ptr(), text.as_ptr()) };
+        if let Some(sink) = &self.sink {
+            sink.send(status, category, message);
+        }
     }
 }
 

@@ -1,24 +1,25 @@
-//! FMU state: get/set/free and serialize/deserialize (FMI 2.0, section 2.1.8).
+//! FMU state: get/set/free and serialize/deserialize (FMI 2.0, section 2.1.8; FMI 3.0, 3.2.4).
 //!
 //! A saved state is a [`Snapshot`] of values only (never pointers), held by the instance that
-//! made it in a [`SnapshotStore`]. The `fmi2FMUstate` the master receives is an opaque handle
+//! made it in a [`SnapshotStore`]. The FMU state the master receives is an opaque handle
 //! (slot and generation), not an address: a handle used after it was freed, freed twice, or
-//! made up is recognised and refused with fmi2Error instead of touching freed memory.
+//! made up is recognised and refused with an error instead of touching freed memory.
 //!
 //! Serialized bytes: `MAGIC`, format version, the FMU's guid, the payload, and an FNV-1a 64
 //! checksum of everything before it. Bytes from another FMU (guid), another format version, a
 //! truncated or corrupted buffer are refused with a message saying which.
 
-use crate::lifecycle::Mode;
+use crate::phase::Phase;
 use crate::integrate::{parameters_len, Lookahead};
 use crate::rk::{StepRecord, STAGES};
 use crate::values::Values;
 
 pub const MAGIC: &[u8; 8] = b"FMURSST\0";
 /// 4: the explicit solver's step reaching past the communication point (`lookahead`).
-pub const FORMAT_VERSION: u32 = 4;
+/// 5: the phase is the runtime's own (`Phase`), not an FMI 2.0 mode bit.
+pub const FORMAT_VERSION: u32 = 5;
 
-/// The experiment set by fmi2SetupExperiment.
+/// The experiment the master set up (fmi2SetupExperiment; fmi3EnterInitializationMode).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Experiment {
     pub tolerance: Option<f64>,
@@ -35,7 +36,7 @@ impl Default for Experiment {
 /// Everything an instance needs to continue exactly from a saved point.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Snapshot {
-    pub mode: Mode,
+    pub phase: Phase,
     pub time: f64,
     pub experiment: Experiment,
     pub values: Values,
@@ -140,7 +141,7 @@ impl Snapshot {
         w.u32(FORMAT_VERSION);
         w.u32(guid.len() as u32);
         w.0.extend_from_slice(guid.as_bytes());
-        w.u32(self.mode as u16 as u32);
+        w.u32(self.phase as u32);
         w.f64(self.time);
         w.opt(self.experiment.tolerance);
         w.f64(self.experiment.start_time);
@@ -195,12 +196,10 @@ impl Snapshot {
         if fnv1a64(FNV_OFFSET, body).to_le_bytes() != sum {
             return Err("the serialized FMU state is corrupted (checksum mismatch)".into());
         }
-        let mode_bits = r.u32()?;
-        let mode = u16::try_from(mode_bits)
-            .ok()
-            .and_then(Mode::from_bits)
-            .filter(|m| !matches!(m, Mode::Fatal | Mode::StepInProgress))
-            .ok_or_else(|| format!("the serialized FMU state has an invalid mode {mode_bits}"))?;
+        let phase_number = r.u32()?;
+        let phase = Phase::from_number(phase_number)
+            .filter(|p| *p != Phase::Fatal)
+            .ok_or_else(|| format!("the serialized FMU state has an invalid phase {phase_number}"))?;
         let time = r.f64()?;
         let tolerance = r.opt()?;
         let start_time = r.f64()?;
@@ -258,7 +257,7 @@ impl Snapshot {
             return Err(format!("the serialized FMU state has {} unexpected trailing bytes", body.len() - r.pos));
         }
         Ok(Snapshot {
-            mode,
+            phase,
             time,
             experiment: Experiment { tolerance, start_time, stop_time },
             values: Values { known, calculated, derivatives, integers, booleans },
@@ -343,7 +342,7 @@ mod tests {
 
     fn sample() -> Snapshot {
         Snapshot {
-            mode: Mode::StepComplete,
+            phase: Phase::Stepping,
             time: 0.05,
             experiment: Experiment { tolerance: Some(1e-7), start_time: 0.0, stop_time: None },
             values: Values {

@@ -12,12 +12,15 @@ use std::ffi::CStr;
 use std::os::raw::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
+use super::log::{fmi2_status, Fmi2Logger};
+use super::states::{mode_name, Function};
 use super::types::*;
 use super::Exported;
-use crate::instance::{CallResult, Failure, FmiValue, Instance, Interface};
-use crate::lifecycle::{Function, Mode};
+use crate::instance::{FmiValue, Instance, Interface};
 use crate::log::Logger;
 use crate::model::Model;
+use crate::phase::Phase;
+use crate::status::{CallResult, Failure, Status};
 
 /// Marks live instances; cleared on free so that a stale pointer to a still-mapped instance
 /// is recognised rather than used.
@@ -55,31 +58,32 @@ unsafe fn with<M: Model>(
     let Some(comp) = component::<M>(c) else {
         return fmi2Error;
     };
-    let mode = comp.instance.mode;
+    let phase = comp.instance.phase;
     let interface = comp.instance.interface;
     if (function.is_model_exchange_only() && interface == Interface::CoSimulation)
         || (function.is_co_simulation_only() && interface == Interface::ModelExchange)
     {
-        comp.instance.logger.log(fmi2Error, &format!("{name} is not available: this instance was instantiated for {interface:?}"));
+        comp.instance.logger.log(Status::Error, &format!("{name} is not available: this instance was instantiated for {interface:?}"));
         return fmi2Error;
     }
-    if !function.is_allowed_in(mode) {
-        comp.instance.logger.log(
-            if mode == Mode::Fatal { fmi2Fatal } else { fmi2Error },
-            &format!("{name} is not allowed in mode {}; it is allowed in: {}", mode.name(), function.allowed_mode_names()),
-        );
-        return if mode == Mode::Fatal { fmi2Fatal } else { fmi2Error };
+    if !function.is_allowed_in(phase) {
+        let status = if phase == Phase::Fatal { Status::Fatal } else { Status::Error };
+        comp.instance
+            .logger
+            .log(status, &format!("{name} is not allowed in mode {}; it is allowed in: {}", mode_name(phase), function.allowed_mode_names()));
+        return fmi2_status(status);
     }
     match catch_unwind(AssertUnwindSafe(|| body(comp))) {
         Ok(Ok(())) => fmi2OK,
         Ok(Err(failure)) => {
+            let status = fmi2_status(failure.status);
             comp.instance.report(&Failure { message: format!("{name}: {}", failure.message), ..failure });
-            failure.status
+            status
         }
         Err(payload) => {
-            comp.instance.mode = Mode::Fatal;
+            comp.instance.phase = Phase::Fatal;
             let msg = format!("{name}: internal error (panic): {}; the instance can only be freed", panic_message(&*payload));
-            comp.instance.logger.log(fmi2Fatal, &msg);
+            comp.instance.logger.log(Status::Fatal, &msg);
             fmi2Fatal
         }
     }
@@ -140,9 +144,10 @@ pub unsafe fn instantiate<M: Model>(
         return std::ptr::null_mut();
     };
     let name = c_str(instance_name).unwrap_or("");
-    let logger = Logger::new(callbacks.logger, callbacks.componentEnvironment, if name.is_empty() { "?" } else { name }, logging_on != 0);
+    let sink = || Fmi2Logger::sink(callbacks.logger, callbacks.componentEnvironment, if name.is_empty() { "?" } else { name });
+    let logger = Logger::new(sink(), logging_on != 0);
     let fail = |msg: String| {
-        logger.log(fmi2Error, &format!("fmi2Instantiate: {msg}"));
+        logger.log(Status::Error, &format!("fmi2Instantiate: {msg}"));
         std::ptr::null_mut()
     };
     if name.is_empty() {
@@ -165,8 +170,8 @@ pub unsafe fn instantiate<M: Model>(
         Ok(instance) => Box::into_raw(Box::new(Component { magic: MAGIC, instance, serialized: None })) as fmi2Component,
         Err(payload) => {
             // The logger moved into the closure; build a fresh one to report.
-            let logger = Logger::new(callbacks.logger, callbacks.componentEnvironment, name, true);
-            logger.log(fmi2Fatal, &format!("fmi2Instantiate: internal error (panic): {}", panic_message(&*payload)));
+            let logger = Logger::new(sink(), true);
+            logger.log(Status::Fatal, &format!("fmi2Instantiate: internal error (panic): {}", panic_message(&*payload)));
             std::ptr::null_mut()
         }
     }
@@ -464,7 +469,7 @@ fn no_status(kind: fmi2StatusKind, ty: &str) -> Failure {
         fmi2DoStepStatus | fmi2PendingStatus => "there is never an asynchronous step in progress (fmi2DoStep never returns fmi2Pending)",
         _ => "this status kind has no value of this type",
     };
-    Failure { status: fmi2Discard, message: format!("status kind {kind} as {ty} is not available: {what}") }
+    Failure::discard(format!("status kind {kind} as {ty} is not available: {what}"))
 }
 
 pub unsafe fn get_status<M: Model>(c: fmi2Component, kind: fmi2StatusKind, value: *mut fmi2Status) -> fmi2Status {

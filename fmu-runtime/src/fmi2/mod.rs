@@ -3,13 +3,29 @@
 
 pub mod export;
 pub mod functions;
+pub mod log;
+pub mod states;
 pub mod types;
+pub mod xml;
 
 use std::ffi::CString;
 use std::ptr;
 use std::sync::atomic::{AtomicPtr, Ordering};
 
 use crate::model::Model;
+
+/// The documentation page's words for FMI 2.0.
+pub const DOCUMENTATION: crate::documentation::Standard = crate::documentation::Standard {
+    version: "2.0",
+    token_name: "guid",
+    error: "fmi2Error",
+    discard: "fmi2Discard",
+    do_step: "fmi2DoStep",
+    setup: "fmi2SetupExperiment",
+    input_derivatives: Some("fmi2SetRealInputDerivatives"),
+    new_discrete_states: "fmi2NewDiscreteStates",
+    event_indicators: "fmi2GetEventIndicators",
+};
 
 /// What a model's library says about itself, computed once per library load: the generated
 /// modelDescription.xml, its guid (a hash of its content), and the documentation page.
@@ -34,9 +50,9 @@ impl Exported {
         let description = crate::description::ModelDescription::with_package::<M>(package);
         Exported {
             model_identifier: crate::log::to_c_string(M::info().name),
-            guid: description.guid.clone(),
-            model_description: crate::log::to_c_string(&description.xml),
-            documentation: crate::log::to_c_string(&crate::documentation::html::<M>(&description)),
+            guid: description.fmi2.token.clone(),
+            model_description: crate::log::to_c_string(&description.fmi2.xml),
+            documentation: crate::log::to_c_string(&crate::documentation::html::<M>(&description, &description.fmi2, &DOCUMENTATION)),
             problems: (!description.problems.is_empty()).then(|| crate::log::to_c_string(&description.problems.join("\n"))),
         }
     }

@@ -44,7 +44,7 @@ pub fn allocations() -> usize {
 
 /// An initialized Co-Simulation instance, with the given integer parameters set first.
 pub fn initialized<M: Model>(integers: &[(&str, i32)]) -> Instance<M> {
-    let mut i = Instance::<M>::new("{test}", Logger::new(None, std::ptr::null_mut(), "test", false));
+    let mut i = Instance::<M>::new("{test}", Logger::silent());
     for (name, value) in integers {
         let vr = i.table().by_name(name).unwrap_or_else(|| panic!("{name}")).value_reference;
         i.set(&[vr], &[*value]).unwrap();

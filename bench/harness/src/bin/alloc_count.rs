@@ -74,7 +74,7 @@ fn counted(f: impl FnOnce()) -> (u64, u64) {
 
 fn case(level: i32, steps: usize) -> Result<String, String> {
     let e = |f: fmu_runtime::instance::Failure| f.message;
-    let mut inst = Instance::<MotorFan>::new("alloc-count", Logger::new(None, std::ptr::null_mut(), "alloc-count", false));
+    let mut inst = Instance::<MotorFan>::new("alloc-count", Logger::silent());
     let vr = |name: &str| inst.table().variables.iter().position(|v| v.name == name).map(|i| i as u32).ok_or(format!("no variable {name}"));
     let (level_vr, speed_vr, torque_vr, events_vr) = (vr("level")?, vr("motor_speed")?, vr("shaft_torque")?, vr("state_events")?);
     inst.set::<i32>(&[level_vr], &[level]).map_err(e)?;

@@ -1,0 +1,141 @@
+//! modelDescription.xml for FMI 2.0 (FMI 2.0.4, section 2.2): ScalarVariables, and a
+//! ModelStructure of 1-based indices into them.
+
+use crate::description::{real_text, Dependencies, Package, Structure};
+use crate::model::Model;
+use crate::variables::{BaseType, Initial, Start, Variable, VariableTable};
+use crate::xml::{close, document, empty, finish, header_attributes, open, write_default_experiment, write_log_categories, write_units, yes_no, Xml, TOKEN_PLACEHOLDER};
+
+/// FMI 2.0 lists variables by index: the position in ModelVariables, from 1 (a value
+/// reference is the position, from 0).
+fn index(value_reference: usize) -> usize {
+    value_reference + 1
+}
+
+fn write_unknowns(w: &mut Xml, list: &str, unknowns: &[(usize, Dependencies)]) {
+    if unknowns.is_empty() {
+        return;
+    }
+    open(w, list, &[]);
+    for (vr, deps) in unknowns {
+        let mut attrs = vec![("index", index(*vr).to_string())];
+        if let Some(set) = deps {
+            attrs.push(("dependencies", set.iter().map(|k| index(*k).to_string()).collect::<Vec<_>>().join(" ")));
+        }
+        empty(w, "Unknown", &attrs);
+    }
+    close(w, list);
+}
+
+fn variable_attributes(v: &Variable) -> Vec<(&'static str, String)> {
+    let mut a = vec![("name", v.name.clone()), ("valueReference", v.value_reference.to_string())];
+    if !v.description.is_empty() {
+        a.push(("description", v.description.clone()));
+    }
+    a.push(("causality", v.causality.as_str().to_string()));
+    a.push(("variability", v.variability.as_str().to_string()));
+    if let Some(i) = v.initial {
+        a.push(("initial", i.as_str().to_string()));
+    }
+    a
+}
+
+fn write_variable(w: &mut Xml, v: &Variable, table: &VariableTable) {
+    open(w, "ScalarVariable", &variable_attributes(v));
+    let mut t = Vec::new();
+    // A calculated variable has no start attribute (a mode's start is only the model's first guess).
+    let start = if v.initial == Some(Initial::Calculated) { None } else { v.start };
+    match start {
+        Some(Start::Real(x)) => t.push(("start", real_text(x))),
+        Some(Start::Integer(n)) => t.push(("start", n.to_string())),
+        Some(Start::Boolean(b)) => t.push(("start", yes_no(b))),
+        None => {}
+    }
+    match v.base_type() {
+        BaseType::Integer => {
+            if let Some(m) = v.min {
+                t.push(("min", (m as i32).to_string()));
+            }
+            if let Some(m) = v.max {
+                t.push(("max", (m as i32).to_string()));
+            }
+            empty(w, "Integer", &t);
+        }
+        BaseType::Boolean => empty(w, "Boolean", &t),
+        _ => {
+            if let Some(of) = v.derivative_of {
+                t.push(("derivative", index(table.variables[of as usize].value_reference as usize).to_string()));
+            }
+            if let Some(u) = &v.unit {
+                t.push(("unit", u.clone()));
+            }
+            if let Some(m) = v.min {
+                t.push(("min", real_text(m)));
+            }
+            if let Some(m) = v.max {
+                t.push(("max", real_text(m)));
+            }
+            if let Some(n) = v.nominal {
+                t.push(("nominal", real_text(n)));
+            }
+            empty(w, "Real", &t);
+        }
+    }
+    close(w, "ScalarVariable");
+}
+
+/// The FMI 2.0 description, with the guid left as `TOKEN_PLACEHOLDER`.
+pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &Package) -> String {
+    let info = M::info();
+    let mut w = document();
+    let mut header = vec![("fmiVersion", "2.0".to_string()), ("modelName", info.name.into()), ("guid", TOKEN_PLACEHOLDER.into())];
+    header.extend(header_attributes::<M>(package));
+    header.push(("numberOfEventIndicators", table.indicators.len().to_string()));
+    open(&mut w, "fmiModelDescription", &header);
+    empty(
+        &mut w,
+        "ModelExchange",
+        &[
+            ("modelIdentifier", info.name.into()),
+            ("needsExecutionTool", yes_no(false)),
+            ("completedIntegratorStepNotNeeded", yes_no(true)),
+            ("canBeInstantiatedOnlyOncePerProcess", yes_no(false)),
+            ("canNotUseMemoryManagementFunctions", yes_no(true)),
+            ("canGetAndSetFMUstate", yes_no(true)),
+            ("canSerializeFMUstate", yes_no(true)),
+            ("providesDirectionalDerivative", yes_no(true)),
+        ],
+    );
+    empty(
+        &mut w,
+        "CoSimulation",
+        &[
+            ("modelIdentifier", info.name.into()),
+            ("needsExecutionTool", yes_no(false)),
+            ("canHandleVariableCommunicationStepSize", yes_no(true)),
+            ("canInterpolateInputs", yes_no(true)),
+            ("maxOutputDerivativeOrder", "1".into()),
+            ("canRunAsynchronuously", yes_no(false)),
+            ("canBeInstantiatedOnlyOncePerProcess", yes_no(false)),
+            ("canNotUseMemoryManagementFunctions", yes_no(true)),
+            ("canGetAndSetFMUstate", yes_no(true)),
+            ("canSerializeFMUstate", yes_no(true)),
+            ("providesDirectionalDerivative", yes_no(true)),
+        ],
+    );
+    write_units(&mut w, table);
+    write_log_categories(&mut w);
+    write_default_experiment::<M>(&mut w);
+    open(&mut w, "ModelVariables", &[]);
+    for v in &table.variables {
+        write_variable(&mut w, v, table);
+    }
+    close(&mut w, "ModelVariables");
+    open(&mut w, "ModelStructure", &[]);
+    write_unknowns(&mut w, "Outputs", &structure.outputs);
+    write_unknowns(&mut w, "Derivatives", &structure.derivatives);
+    write_unknowns(&mut w, "InitialUnknowns", &structure.initial_unknowns);
+    close(&mut w, "ModelStructure");
+    close(&mut w, "fmiModelDescription");
+    finish(w)
+}
