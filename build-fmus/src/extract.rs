@@ -7,6 +7,8 @@
 //! extern "C" fn fmu_runtime_model_description() -> *const c_char  // modelDescription.xml
 //! extern "C" fn fmu_runtime_documentation() -> *const c_char      // an HTML page
 //! extern "C" fn fmu_runtime_model_problems() -> *const c_char     // NULL, or what is wrong
+//! extern "C" fn fmu_runtime_model_description_fmi3() -> *const c_char  // FMI 3.0's
+//! extern "C" fn fmu_runtime_documentation_fmi3() -> *const c_char      // FMI 3.0's page
 //! ```
 //!
 //! Each returns a NUL-terminated UTF-8 string that stays valid while the library is loaded.
@@ -31,6 +33,11 @@ pub const EFFECTS_TEXT_SYMBOL: &str = "fmu_runtime_effects_text";
 /// `fmu_runtime::documentation::ACTIVITY_TABLE_MARK` writes.
 pub const ACTIVITY_TABLE_MARK: &str = "<!-- activity table of the default experiment -->\n";
 
+/// The FMI 3.0 twins of the description and documentation symbols (a library built by an older
+/// runtime has none: it makes no FMI 3.0 FMU).
+pub const DESCRIPTION_FMI3_SYMBOL: &str = "fmu_runtime_model_description_fmi3";
+pub const DOCUMENTATION_FMI3_SYMBOL: &str = "fmu_runtime_documentation_fmi3";
+
 /// The problems symbol's name: the model's declaration problems, NULL when there are none.
 pub const PROBLEMS_SYMBOL: &str = "fmu_runtime_model_problems";
 
@@ -45,6 +52,15 @@ pub struct ModelInfo {
     pub documentation: String,
     /// Table 3.1 and the activity table as text (empty for a model without elements).
     pub effects: String,
+    /// The FMI 3.0 modelDescription.xml and documentation page, if the library has them.
+    pub fmi3: Option<Fmi3Info>,
+}
+
+/// What the same library says about itself as an FMI 3.0 FMU.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Fmi3Info {
+    pub description: String,
+    pub documentation: String,
 }
 
 impl ModelInfo {
@@ -74,13 +90,19 @@ pub fn extract(path: &Path, package: &str) -> Result<ModelInfo, String> {
     }
     let identifier = call_string(&lib, IDENTIFIER_SYMBOL, package)?;
     let description = call_string(&lib, DESCRIPTION_SYMBOL, package)?;
-    let mut documentation = call_string(&lib, DOCUMENTATION_SYMBOL, package)?;
-    if let Some(table) = call_optional_string(&lib, EFFECTS_HTML_SYMBOL)?.filter(|t| !t.is_empty()) {
-        if !documentation.contains(ACTIVITY_TABLE_MARK) {
-            return Err(format!("{package}: the documentation page has no place for the activity table ({ACTIVITY_TABLE_MARK:?})"));
+    let table = call_optional_string(&lib, EFFECTS_HTML_SYMBOL)?.filter(|t| !t.is_empty());
+    let with_table = |page: String| match &table {
+        Some(_) if !page.contains(ACTIVITY_TABLE_MARK) => {
+            Err(format!("{package}: the documentation page has no place for the activity table ({ACTIVITY_TABLE_MARK:?})"))
         }
-        documentation = documentation.replacen(ACTIVITY_TABLE_MARK, &table, 1);
-    }
+        Some(t) => Ok(page.replacen(ACTIVITY_TABLE_MARK, t, 1)),
+        None => Ok(page),
+    };
+    let documentation = with_table(call_string(&lib, DOCUMENTATION_SYMBOL, package)?)?;
+    let fmi3 = match (call_optional_string(&lib, DESCRIPTION_FMI3_SYMBOL)?, call_optional_string(&lib, DOCUMENTATION_FMI3_SYMBOL)?) {
+        (Some(description), Some(page)) => Some(Fmi3Info { description, documentation: with_table(page)? }),
+        _ => None,
+    };
     let effects = call_optional_string(&lib, EFFECTS_TEXT_SYMBOL)?.unwrap_or_default();
     drop(lib);
     let info = ModelInfo {
@@ -88,6 +110,7 @@ pub fn extract(path: &Path, package: &str) -> Result<ModelInfo, String> {
         description,
         documentation,
         effects,
+        fmi3,
     };
     check(&info, package)?;
     Ok(info)
@@ -248,6 +271,7 @@ mod tests {
             description: xml.into(),
             documentation: "<html></html>".into(),
             effects: String::new(),
+            fmi3: None,
         }
     }
 

@@ -502,7 +502,8 @@ fn package_systems(
 }
 
 /// Zips one model into `<out_dir>/<identifier>.fmu` (creating `out_dir` if needed), with its
-/// figures from `<root>/docs/figures`; returns its path and size.
+/// figures from `<root>/docs/figures`, and the same binary as an FMI 3.0 FMU into
+/// `<out_dir>/fmi3/<identifier>.fmu`; returns the FMI 2.0 FMU's path and size.
 fn package_one(
     root: &Path,
     out_dir: &Path,
@@ -515,20 +516,33 @@ fn package_one(
         fs::read(lib_path).map_err(|e| format!("could not read {}: {e}", lib_path.display()))?;
     let path = out_dir.join(format!("{}.fmu", info.identifier));
     let figures = figures::find(root, &info.identifier)?;
-    let documentation = figures::with_figures(&info.documentation, &figures);
-    let size = package::write_fmu(
-        &path,
-        &package::FmuContents {
-            identifier: &info.identifier,
-            model_description: info.description.as_bytes(),
-            icon: &icon::png(&info.identifier),
-            binary: &binary,
-            documentation: documentation.as_bytes(),
-            figures: &figures,
-        },
-    )?;
+    let icon = icon::png(&info.identifier);
+    let write = |path: &Path, standard, description: &str, page: &str| {
+        let documentation = figures::with_figures(page, &figures);
+        package::write_fmu(
+            path,
+            &package::FmuContents {
+                standard,
+                identifier: &info.identifier,
+                model_description: description.as_bytes(),
+                icon: &icon,
+                binary: &binary,
+                documentation: documentation.as_bytes(),
+                figures: &figures,
+            },
+        )
+    };
+    let size = write(&path, package::Standard::Fmi2, &info.description, &info.documentation)?;
+    if let Some(fmi3) = &info.fmi3 {
+        let dir = out_dir.join(FMI3_DIR);
+        fs::create_dir_all(&dir).map_err(|e| format!("could not create {}: {e}", dir.display()))?;
+        write(&dir.join(format!("{}.fmu", info.identifier)), package::Standard::Fmi3, &fmi3.description, &fmi3.documentation)?;
+    }
     Ok((path, size))
 }
+
+/// Where the FMI 3.0 FMUs go, inside the output directory.
+const FMI3_DIR: &str = "fmi3";
 
 fn main() -> ExitCode {
     let opts = match parse_args(std::env::args_os().skip(1)) {

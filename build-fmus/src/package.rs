@@ -5,7 +5,7 @@
 //! ```text
 //! modelDescription.xml
 //! model.png                      (the icon, drawn by `icon::png`)
-//! binaries/<platform>/<modelIdentifier>.<so|dylib|dll>
+//! binaries/<platform>/<modelIdentifier>.<so|dylib|dll>   (FMI 2.0 linux64, FMI 3.0 x86_64-linux)
 //! documentation/index.html
 //! documentation/<figure>.png     (the model's figures from docs/figures, if any)
 //! ```
@@ -22,9 +22,17 @@ use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
+/// The standard an FMU follows: it names the binaries' folder.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Standard {
+    Fmi2,
+    Fmi3,
+}
+
 /// What goes into one FMU.
 #[derive(Debug, Clone, Copy)]
 pub struct FmuContents<'a> {
+    pub standard: Standard,
     /// The modelIdentifier; names the binary entry.
     pub identifier: &'a str,
     /// modelDescription.xml.
@@ -53,15 +61,29 @@ pub fn platform() -> Option<(&'static str, &'static str)> {
     }
 }
 
+/// The FMI 3.0 name of the platform (`x86_64-linux`: the architecture and the operating
+/// system, FMI 3.0 section 2.5.1.1).
+pub fn platform_fmi3() -> Option<&'static str> {
+    match (std::env::consts::OS, std::env::consts::ARCH) {
+        ("linux", "x86_64") => Some("x86_64-linux"),
+        ("linux", "x86") => Some("x86-linux"),
+        ("linux", "aarch64") => Some("aarch64-linux"),
+        ("macos", "x86_64") => Some("x86_64-darwin"),
+        ("macos", "aarch64") => Some("aarch64-darwin"),
+        ("windows", "x86_64") => Some("x86_64-windows"),
+        ("windows", "x86") => Some("x86-windows"),
+        _ => None,
+    }
+}
+
 /// The entry names of an FMU for `identifier`, in archive order.
-pub fn entry_names(identifier: &str) -> Result<[String; 4], String> {
-    let (dir, ext) = platform().ok_or_else(|| {
-        format!(
-            "FMI 2.0 defines no binaries/ folder for {}-{}",
-            std::env::consts::OS,
-            std::env::consts::ARCH
-        )
-    })?;
+pub fn entry_names(identifier: &str, standard: Standard) -> Result<[String; 4], String> {
+    let none = |version: &str| format!("FMI {version} defines no binaries/ folder for {}-{}", std::env::consts::OS, std::env::consts::ARCH);
+    let (dir, ext) = platform().ok_or_else(|| none("2.0"))?;
+    let dir = match standard {
+        Standard::Fmi2 => dir,
+        Standard::Fmi3 => platform_fmi3().ok_or_else(|| none("3.0"))?,
+    };
     Ok([
         "modelDescription.xml".to_owned(),
         "model.png".to_owned(),
@@ -75,7 +97,7 @@ const BINARY: usize = 2;
 
 /// The archive's bytes.
 pub fn fmu_bytes(contents: &FmuContents) -> Result<Vec<u8>, String> {
-    let names = entry_names(contents.identifier)?;
+    let names = entry_names(contents.identifier, contents.standard)?;
     let data = [
         contents.model_description,
         contents.icon,
@@ -146,6 +168,7 @@ mod tests {
 
     fn contents(binary: &[u8]) -> FmuContents<'_> {
         FmuContents {
+            standard: Standard::Fmi2,
             identifier: "RlcCircuit",
             model_description: b"<?xml version=\"1.0\"?><fmiModelDescription/>",
             icon: b"\x89PNG icon",
@@ -159,7 +182,7 @@ mod tests {
     #[test]
     fn entry_names_are_the_fmi_layout() {
         assert_eq!(
-            entry_names("RlcCircuit").unwrap(),
+            entry_names("RlcCircuit", Standard::Fmi2).unwrap(),
             [
                 "modelDescription.xml",
                 "model.png",
@@ -167,6 +190,8 @@ mod tests {
                 "documentation/index.html"
             ]
         );
+        // FMI 3.0 names the folder by architecture and system (FMI 3.0, section 2.5.1.1).
+        assert_eq!(entry_names("RlcCircuit", Standard::Fmi3).unwrap()[2], "binaries/x86_64-linux/RlcCircuit.so");
     }
 
     #[test]
@@ -178,7 +203,7 @@ mod tests {
         assert_eq!(size, fs::metadata(&path).unwrap().len());
 
         let mut archive = zip::ZipArchive::new(fs::File::open(&path).unwrap()).unwrap();
-        let names = entry_names("RlcCircuit").unwrap();
+        let names = entry_names("RlcCircuit", Standard::Fmi2).unwrap();
         assert_eq!(archive.len(), 4);
         let expected: [&[u8]; 4] = [
             contents(&binary).model_description,

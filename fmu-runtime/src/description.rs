@@ -24,6 +24,8 @@ use crate::variables::{Causality, Initial, Slot, Variable, VariableTable};
 pub struct ModelDescription {
     /// FMI 2.0: the XML and its guid.
     pub fmi2: Document,
+    /// FMI 3.0: the XML and its instantiationToken.
+    pub fmi3: Document,
     /// The model crate's version, authors, license and source date (in the XML's header).
     pub package: Package,
     pub table: VariableTable,
@@ -565,7 +567,8 @@ impl ModelDescription {
         let fresh: Vec<String> = constant.into_iter().filter(|c| !problems.iter().any(|p| same_variable(p, c))).collect();
         problems.extend(fresh);
         let fmi2 = Document::stamped(crate::fmi2::xml::write::<M>(&table, &structure, package));
-        ModelDescription { fmi2, package: *package, table, structure, problems }
+        let fmi3 = Document::stamped(crate::fmi3::xml::write::<M>(&table, &structure, package));
+        ModelDescription { fmi2, fmi3, package: *package, table, structure, problems }
     }
 }
 

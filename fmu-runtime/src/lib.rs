@@ -40,10 +40,14 @@
 //! assert!(description.fmi2.xml.contains(r#"<Unknown index="4" dependencies="2"/>"#));
 //! ```
 pub mod activity_report;
+pub mod boundary;
 pub mod description;
 pub mod documentation;
 pub mod elements;
+pub mod export;
+pub mod exported;
 pub mod fmi2;
+pub mod fmi3;
 pub mod instance;
 pub mod integrate;
 pub mod rk;

@@ -74,6 +74,20 @@ impl Phase {
     }
 }
 
+/// The phases as bits, for the adapters' state tables.
+pub mod bits {
+    use super::Phase;
+    pub const INSTANTIATED: u16 = Phase::Instantiated.bit();
+    pub const INIT: u16 = Phase::Initialization.bit();
+    pub const STEPPING: u16 = Phase::Stepping.bit();
+    pub const FAILED: u16 = Phase::StepFailed.bit();
+    pub const TERMINATED: u16 = Phase::Terminated.bit();
+    pub const ERROR: u16 = Phase::Error.bit();
+    pub const FATAL: u16 = Phase::Fatal.bit();
+    pub const EVENT: u16 = Phase::Event.bit();
+    pub const CONTINUOUS: u16 = Phase::ContinuousTime.bit();
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

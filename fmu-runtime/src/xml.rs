@@ -12,7 +12,7 @@ use crate::log::CATEGORIES;
 use crate::model::Model;
 use crate::state::{fnv1a64, FNV_OFFSET};
 use crate::units;
-use crate::variables::VariableTable;
+use crate::variables::{Variable, VariableTable};
 
 pub type Xml = Writer<Vec<u8>>;
 
@@ -77,9 +77,11 @@ pub fn header_attributes<M: Model>(package: &Package) -> Vec<(&'static str, Stri
     header
 }
 
-/// UnitDefinitions: every unit a variable uses, in SI base units.
-pub fn write_units(w: &mut Xml, table: &VariableTable) {
-    let used: BTreeSet<&str> = table.variables.iter().filter_map(|v| v.unit.as_deref()).collect();
+/// UnitDefinitions: every unit a variable uses (and `more`, units of variables the writer adds),
+/// in SI base units.
+pub fn write_units(w: &mut Xml, table: &VariableTable, more: &[&str]) {
+    let mut used: BTreeSet<&str> = table.variables.iter().filter_map(|v| v.unit.as_deref()).collect();
+    used.extend(more);
     if used.is_empty() {
         return;
     }
@@ -127,4 +129,32 @@ pub fn write_default_experiment<M: Model>(w: &mut Xml) {
             ("stepSize", real_text(e.step_size)),
         ],
     );
+}
+
+/// The attributes every variable element starts with, in both standards: name, valueReference,
+/// description, causality, variability, initial.
+pub fn variable_attributes(v: &Variable) -> Vec<(&'static str, String)> {
+    let mut a = vec![("name", v.name.clone()), ("valueReference", v.value_reference.to_string())];
+    if !v.description.is_empty() {
+        a.push(("description", v.description.clone()));
+    }
+    a.push(("causality", v.causality.as_str().to_string()));
+    a.push(("variability", v.variability.as_str().to_string()));
+    if let Some(i) = v.initial {
+        a.push(("initial", i.as_str().to_string()));
+    }
+    a
+}
+
+/// A variable's start attribute's text, if it has one: a calculated variable has none (a
+/// mode's start is only the model's first guess).
+pub fn start_text(v: &Variable) -> Option<String> {
+    if v.initial == Some(crate::variables::Initial::Calculated) {
+        return None;
+    }
+    v.start.map(|s| match s {
+        crate::variables::Start::Real(x) => real_text(x),
+        crate::variables::Start::Integer(n) => n.to_string(),
+        crate::variables::Start::Boolean(b) => yes_no(b),
+    })
 }

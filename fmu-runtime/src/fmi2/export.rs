@@ -1,95 +1,18 @@
-//! `export_fmu!(MyModel)`: the one line a model crate writes to become an FMU.
+//! `export_fmi2!()`: the `extern "C"` symbols of FMI 2.0 `fmi2Functions.h` (Co-Simulation and
+//! Model Exchange), each a line that calls its generic implementation in `fmi2::functions`.
 
-/// Exports every function of FMI 2.0 `fmi2Functions.h` (Co-Simulation and Model Exchange)
-/// for a type implementing
-/// [`Model`](crate::Model), and four functions `build-fmus` reads:
-/// `fmu_runtime_model_identifier`, `fmu_runtime_model_description`, `fmu_runtime_documentation`
-/// and `fmu_runtime_model_problems`.
-///
-/// Use it once, at the root of a `cdylib` crate: `fmu_runtime::export_fmu!(RlcCircuit);`
+/// Exports every fmi2 function. Used by `export_fmu!`, inside the module where it defines `M`
+/// (the model) and `exported()` (its description).
+#[doc(hidden)]
 #[macro_export]
-macro_rules! export_fmu {
-    ($model:ty) => {
+macro_rules! export_fmi2 {
+    () => {
         #[allow(non_snake_case, clippy::missing_safety_doc)]
-        mod __fmu_exports {
-            use super::*;
+        mod __fmi2 {
+            use super::{exported, M};
             use $crate::fmi2::functions as f;
             use $crate::fmi2::types::*;
             use std::os::raw::c_char;
-            type M = $model;
-
-            static EXPORTED: $crate::fmi2::ExportedCell = $crate::fmi2::ExportedCell::new();
-
-            /// The model crate's Cargo metadata and source date, read here, in the model crate, at
-            /// compile time: the XML the binary writes at run time is the one build-fmus packaged.
-            const PACKAGE: $crate::description::Package = $crate::description::Package {
-                version: env!("CARGO_PKG_VERSION"),
-                authors: env!("CARGO_PKG_AUTHORS"),
-                license: env!("CARGO_PKG_LICENSE"),
-                source_date_epoch: option_env!("SOURCE_DATE_EPOCH"),
-            };
-
-            fn make() -> $crate::fmi2::Exported {
-                $crate::fmi2::Exported::with_package::<M>(&PACKAGE)
-            }
-
-            fn exported() -> &'static $crate::fmi2::Exported {
-                EXPORTED.get_or_init(make)
-            }
-
-            /// Frees the description when the library is unloaded (or the process exits).
-            #[cfg(target_os = "linux")]
-            #[used]
-            #[link_section = ".fini_array"]
-            static RELEASE_AT_UNLOAD: extern "C" fn() = {
-                extern "C" fn release() {
-                    // SAFETY: .fini_array runs when nothing of this library can be called again.
-                    unsafe { EXPORTED.release() }
-                }
-                release
-            };
-
-            fn guarded_text(pick: fn(&$crate::fmi2::Exported) -> *const c_char) -> *const c_char {
-                std::panic::catch_unwind(|| pick(exported())).unwrap_or(std::ptr::null())
-            }
-
-            #[no_mangle]
-            pub extern "C" fn fmu_runtime_model_identifier() -> *const c_char {
-                guarded_text(|e| e.model_identifier.as_ptr())
-            }
-            #[no_mangle]
-            pub extern "C" fn fmu_runtime_model_description() -> *const c_char {
-                guarded_text(|e| e.model_description.as_ptr())
-            }
-            #[no_mangle]
-            pub extern "C" fn fmu_runtime_documentation() -> *const c_char {
-                guarded_text(|e| e.documentation.as_ptr())
-            }
-            /// The model's problems (one per line: "file:line: rule. Fix: ..."), or NULL if none.
-            #[no_mangle]
-            pub extern "C" fn fmu_runtime_model_problems() -> *const c_char {
-                guarded_text(|e| e.problems.as_ref().map_or(std::ptr::null(), |p| p.as_ptr()))
-            }
-
-            /// The effects of the model and their activities over its default experiment (run
-            /// on the first call): (HTML for documentation/index.html, plain text).
-            fn effects() -> &'static (std::ffi::CString, std::ffi::CString) {
-                static EFFECTS: std::sync::OnceLock<(std::ffi::CString, std::ffi::CString)> = std::sync::OnceLock::new();
-                EFFECTS.get_or_init(|| {
-                    let (html, text) = $crate::activity_report::report::<M>();
-                    ($crate::log::to_c_string(&html), $crate::log::to_c_string(&text))
-                })
-            }
-            /// Table 3.1 and the activity table, as HTML (build-fmus puts it in the documentation).
-            #[no_mangle]
-            pub extern "C" fn fmu_runtime_effects_html() -> *const c_char {
-                std::panic::catch_unwind(|| effects().0.as_ptr()).unwrap_or(std::ptr::null())
-            }
-            /// Table 3.1 and the activity table, as text (`build-fmus effects <model>`).
-            #[no_mangle]
-            pub extern "C" fn fmu_runtime_effects_text() -> *const c_char {
-                std::panic::catch_unwind(|| effects().1.as_ptr()).unwrap_or(std::ptr::null())
-            }
 
             #[no_mangle]
             pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {

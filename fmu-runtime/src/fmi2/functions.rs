@@ -8,118 +8,22 @@
 //! 5. reports a failure's message through the logger and returns its status.
 #![allow(clippy::missing_safety_doc, clippy::too_many_arguments, non_upper_case_globals)]
 
-use std::ffi::CStr;
 use std::os::raw::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use super::log::{fmi2_status, Fmi2Logger};
-use super::states::{mode_name, Function};
+use super::states::Function;
 use super::types::*;
-use super::Exported;
+use crate::boundary::{c_str, checked, handle, no_string, null, panic_message, slice, slice_mut, Component};
+use crate::exported::Exported;
 use crate::instance::{FmiValue, Instance, Interface};
 use crate::log::Logger;
 use crate::model::Model;
-use crate::phase::Phase;
 use crate::status::{CallResult, Failure, Status};
 
-/// Marks live instances; cleared on free so that a stale pointer to a still-mapped instance
-/// is recognised rather than used.
-const MAGIC: u64 = 0x464d_5552_5349_4e53;
-
-/// What `fmi2Component` points at.
-#[repr(C)]
-pub struct Component<M: Model> {
-    magic: u64,
-    instance: Instance<M>,
-    /// Bytes of the last fmi2SerializedFMUstateSize, reused by fmi2SerializeFMUstate.
-    serialized: Option<(usize, Vec<u8>)>,
-}
-
-fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    payload
-        .downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown panic".to_string())
-}
-
-unsafe fn component<'a, M: Model>(c: fmi2Component) -> Option<&'a mut Component<M>> {
-    let comp = (c as *mut Component<M>).as_mut()?;
-    (comp.magic == MAGIC).then_some(comp)
-}
-
-/// Runs `body` on the instance behind `c` if `function` is legal in its mode.
-unsafe fn with<M: Model>(
-    c: fmi2Component,
-    function: Function,
-    name: &str,
-    body: impl FnOnce(&mut Component<M>) -> CallResult,
-) -> fmi2Status {
-    let Some(comp) = component::<M>(c) else {
-        return fmi2Error;
-    };
-    let phase = comp.instance.phase;
-    let interface = comp.instance.interface;
-    if (function.is_model_exchange_only() && interface == Interface::CoSimulation)
-        || (function.is_co_simulation_only() && interface == Interface::ModelExchange)
-    {
-        comp.instance.logger.log(Status::Error, &format!("{name} is not available: this instance was instantiated for {interface:?}"));
-        return fmi2Error;
-    }
-    if !function.is_allowed_in(phase) {
-        let status = if phase == Phase::Fatal { Status::Fatal } else { Status::Error };
-        comp.instance
-            .logger
-            .log(status, &format!("{name} is not allowed in mode {}; it is allowed in: {}", mode_name(phase), function.allowed_mode_names()));
-        return fmi2_status(status);
-    }
-    match catch_unwind(AssertUnwindSafe(|| body(comp))) {
-        Ok(Ok(())) => fmi2OK,
-        Ok(Err(failure)) => {
-            let status = fmi2_status(failure.status);
-            comp.instance.report(&Failure { message: format!("{name}: {}", failure.message), ..failure });
-            status
-        }
-        Err(payload) => {
-            comp.instance.phase = Phase::Fatal;
-            let msg = format!("{name}: internal error (panic): {}; the instance can only be freed", panic_message(&*payload));
-            comp.instance.logger.log(Status::Fatal, &msg);
-            fmi2Fatal
-        }
-    }
-}
-
-/// A C array as a slice; `None` (an error) when it is null but should hold `n` > 0 items.
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
-    if n == 0 {
-        Some(&[])
-    } else if p.is_null() {
-        None
-    } else {
-        Some(std::slice::from_raw_parts(p, n))
-    }
-}
-
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
-    if n == 0 {
-        Some(&mut [])
-    } else if p.is_null() {
-        None
-    } else {
-        Some(std::slice::from_raw_parts_mut(p, n))
-    }
-}
-
-fn null(what: &str) -> Failure {
-    Failure::error(format!("{what} is a null pointer"))
-}
-
-unsafe fn c_str<'a>(p: fmi2String) -> Option<&'a str> {
-    if p.is_null() {
-        None
-    } else {
-        CStr::from_ptr(p).to_str().ok()
-    }
+/// Runs `body` on the instance behind `c` if `function` is legal in its phase.
+unsafe fn with<M: Model>(c: fmi2Component, function: Function, name: &str, body: impl FnOnce(&mut Component<M>) -> CallResult) -> fmi2Status {
+    checked::<M, Function>(c, function, name, body).map_or(fmi2Error, fmi2_status)
 }
 
 pub fn get_types_platform() -> *const c_char {
@@ -162,12 +66,12 @@ pub unsafe fn instantiate<M: Model>(
         other => return fail(format!("fmuType {other} is neither fmi2ModelExchange (0) nor fmi2CoSimulation (1)")),
     };
     match c_str(guid) {
-        Some(g) if g == exported.guid => {}
-        Some(g) => return fail(format!("guid {g} does not match this FMU's guid {}: modelDescription.xml and binary differ", exported.guid)),
+        Some(g) if g == exported.fmi2.token => {}
+        Some(g) => return fail(format!("guid {g} does not match this FMU's guid {}: modelDescription.xml and binary differ", exported.fmi2.token)),
         None => return fail("guid is null or not UTF-8".into()),
     }
-    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::for_interface(interface, &exported.guid, logger))) {
-        Ok(instance) => Box::into_raw(Box::new(Component { magic: MAGIC, instance, serialized: None })) as fmi2Component,
+    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::for_interface(interface, &exported.fmi2.token, logger))) {
+        Ok(instance) => Component::into_raw(instance),
         Err(payload) => {
             // The logger moved into the closure; build a fresh one to report.
             let logger = Logger::new(sink(), true);
@@ -178,12 +82,7 @@ pub unsafe fn instantiate<M: Model>(
 }
 
 pub unsafe fn free_instance<M: Model>(c: fmi2Component) {
-    if component::<M>(c).is_none() {
-        return;
-    }
-    let mut comp = Box::from_raw(c as *mut Component<M>);
-    comp.magic = 0;
-    let _ = catch_unwind(AssertUnwindSafe(move || drop(comp)));
+    Component::<M>::free(c)
 }
 
 pub unsafe fn set_debug_logging<M: Model>(c: fmi2Component, on: fmi2Boolean, n: usize, categories: *const fmi2String) -> fmi2Status {
@@ -275,12 +174,6 @@ pub unsafe fn get_string<M: Model>(c: fmi2Component, vr: *const fmi2ValueReferen
     })
 }
 
-fn no_string(table: &crate::variables::VariableTable, vr: u32) -> String {
-    match table.get(vr) {
-        Some(v) => format!("value reference {vr} is the {:?} variable '{}', not a String (this FMU has no String variables)", v.base_type(), v.name),
-        None => format!("unknown value reference {vr} (this FMU has no String variables)"),
-    }
-}
 
 pub unsafe fn set_real<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2Real) -> fmi2Status {
     match slice(value, n) {
@@ -317,16 +210,10 @@ pub unsafe fn set_string<M: Model>(c: fmi2Component, vr: *const fmi2ValueReferen
     })
 }
 
-/// An `fmi2FMUstate` handle as the instance's store knows it (0 = none).
-fn handle(state: fmi2FMUstate) -> Option<usize> {
-    let h = state as usize;
-    (h != 0).then_some(h)
-}
-
 pub unsafe fn get_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
     with::<M>(c, Function::FmuState, "fmi2GetFMUstate", |comp| {
         let state = state.as_mut().ok_or_else(|| null("the FMUstate pointer"))?;
-        let h = comp.instance.get_fmu_state(handle(*state))?;
+        let h = comp.get_fmu_state(handle(*state))?;
         *state = h as fmi2FMUstate;
         Ok(())
     })
@@ -356,9 +243,7 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(c: fmi2Component, state: fmi2F
     with::<M>(c, Function::FmuState, "fmi2SerializedFMUstateSize", |comp| {
         let size = size.as_mut().ok_or_else(|| null("the size pointer"))?;
         let h = handle(state).ok_or_else(|| null("the FMUstate"))?;
-        let bytes = comp.instance.serialize_fmu_state(h)?;
-        *size = bytes.len();
-        comp.serialized = Some((h, bytes));
+        *size = comp.serialized_size(h)?;
         Ok(())
     })
 }
@@ -366,19 +251,7 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(c: fmi2Component, state: fmi2F
 pub unsafe fn serialize_fmu_state<M: Model>(c: fmi2Component, state: fmi2FMUstate, out: *mut fmi2Byte, size: usize) -> fmi2Status {
     with::<M>(c, Function::FmuState, "fmi2SerializeFMUstate", |comp| {
         let h = handle(state).ok_or_else(|| null("the FMUstate"))?;
-        let bytes = match comp.serialized.take() {
-            Some((cached, bytes)) if cached == h => bytes,
-            _ => comp.instance.serialize_fmu_state(h)?,
-        };
-        if size != bytes.len() {
-            return Err(Failure::error(format!(
-                "the buffer holds {size} bytes, the serialized state has {} (ask fmi2SerializedFMUstateSize)",
-                bytes.len()
-            )));
-        }
-        let out = slice_mut(out as *mut u8, size).ok_or_else(|| null("the byte buffer"))?;
-        out.copy_from_slice(&bytes);
-        Ok(())
+        comp.serialize_into(h, slice_mut(out as *mut u8, size), size)
     })
 }
 
@@ -615,7 +488,7 @@ mod tests {
     static LOG: Mutex<Vec<(i32, String)>> = Mutex::new(Vec::new());
 
     unsafe extern "C" fn record(_: fmi2ComponentEnvironment, _: fmi2String, status: fmi2Status, _: fmi2String, msg: fmi2String) {
-        LOG.lock().unwrap().push((status, CStr::from_ptr(msg).to_string_lossy().into_owned()));
+        LOG.lock().unwrap().push((status, std::ffi::CStr::from_ptr(msg).to_string_lossy().into_owned()));
     }
 
     #[test]
@@ -631,7 +504,7 @@ mod tests {
             stepFinished: None,
             componentEnvironment: std::ptr::null_mut(),
         };
-        let guid = std::ffi::CString::new(exported.guid.clone()).unwrap();
+        let guid = std::ffi::CString::new(exported.fmi2.token.clone()).unwrap();
         unsafe {
             let c = instantiate::<Panicky>(exported, c"p".as_ptr(), fmi2CoSimulation, guid.as_ptr(), std::ptr::null(), &callbacks, 0, 0);
             assert!(!c.is_null());

@@ -6,6 +6,7 @@
 //! FMI 2.0's StepInProgress and StepCanceled are never entered (fmi2DoStep is synchronous and
 //! never returns fmi2Pending), so no phase stands for them.
 
+use crate::boundary::CallTable;
 use crate::phase::Phase;
 
 /// The FMI 2.0 name of a phase, for messages.
@@ -23,15 +24,7 @@ pub fn mode_name(phase: Phase) -> &'static str {
     }
 }
 
-const INSTANTIATED: u16 = Phase::Instantiated.bit();
-const INIT: u16 = Phase::Initialization.bit();
-const COMPLETE: u16 = Phase::Stepping.bit();
-const FAILED: u16 = Phase::StepFailed.bit();
-const TERMINATED: u16 = Phase::Terminated.bit();
-const ERROR: u16 = Phase::Error.bit();
-const FATAL: u16 = Phase::Fatal.bit();
-const EVENT: u16 = Phase::Event.bit();
-const CONTINUOUS: u16 = Phase::ContinuousTime.bit();
+use crate::phase::bits::{CONTINUOUS, ERROR, EVENT, FAILED, FATAL, INIT, INSTANTIATED, STEPPING as COMPLETE, TERMINATED};
 
 /// After the slave is initialized, in any outcome of the last step.
 const INITIALIZED: u16 = COMPLETE | FAILED;
@@ -74,9 +67,9 @@ pub enum Function {
     GetNominalsOfContinuousStates,
 }
 
-impl Function {
+impl CallTable for Function {
     /// The phases in which the function may be called (FMI 2.0.4, table in section 4.2.4).
-    pub fn allowed(self) -> u16 {
+    fn allowed(self) -> u16 {
         match self {
             Function::SetDebugLogging => ALIVE,
             // Freeing is always allowed, so that no instance ever leaks (also from Fatal).
@@ -106,7 +99,7 @@ impl Function {
     }
 
     /// Functions of the Model Exchange interface only (refused for a Co-Simulation instance).
-    pub fn is_model_exchange_only(self) -> bool {
+    fn is_model_exchange_only(self) -> bool {
         matches!(
             self,
             Function::EnterEventMode
@@ -123,25 +116,18 @@ impl Function {
     }
 
     /// Functions of the Co-Simulation interface only (refused for a Model Exchange instance).
-    pub fn is_co_simulation_only(self) -> bool {
+    fn is_co_simulation_only(self) -> bool {
         matches!(
             self,
             Function::DoStep | Function::CancelStep | Function::GetStatus | Function::SetRealInputDerivatives | Function::GetRealOutputDerivatives
         )
     }
 
-    pub fn is_allowed_in(self, phase: Phase) -> bool {
-        self.allowed() & phase.bit() != 0
+    fn phase_name(phase: Phase) -> &'static str {
+        mode_name(phase)
     }
 
-    /// The modes in which the function may be called, for an error message.
-    pub fn allowed_mode_names(self) -> String {
-        let mask = self.allowed();
-        if mask == 0 {
-            return "none (StepInProgress, which this FMU never enters)".into();
-        }
-        Phase::ALL.into_iter().filter(|p| mask & p.bit() != 0).map(mode_name).collect::<Vec<_>>().join(", ")
-    }
+    const IN: &'static str = "in mode ";
 }
 
 #[cfg(test)]
@@ -183,7 +169,7 @@ mod tests {
 
     #[test]
     fn allowed_names_read_well() {
-        assert_eq!(Function::ExitInitializationMode.allowed_mode_names(), "InitializationMode");
-        assert!(Function::CancelStep.allowed_mode_names().contains("never"));
+        assert_eq!(Function::ExitInitializationMode.allowed_names(), "InitializationMode");
+        assert!(Function::CancelStep.allowed_names().contains("never"));
     }
 }

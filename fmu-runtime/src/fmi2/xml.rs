@@ -3,8 +3,8 @@
 
 use crate::description::{real_text, Dependencies, Package, Structure};
 use crate::model::Model;
-use crate::variables::{BaseType, Initial, Start, Variable, VariableTable};
-use crate::xml::{close, document, empty, finish, header_attributes, open, write_default_experiment, write_log_categories, write_units, yes_no, Xml, TOKEN_PLACEHOLDER};
+use crate::variables::{BaseType, Variable, VariableTable};
+use crate::xml::{close, document, empty, finish, header_attributes, open, start_text, variable_attributes, write_default_experiment, write_log_categories, write_units, yes_no, Xml, TOKEN_PLACEHOLDER};
 
 /// FMI 2.0 lists variables by index: the position in ModelVariables, from 1 (a value
 /// reference is the position, from 0).
@@ -27,30 +27,9 @@ fn write_unknowns(w: &mut Xml, list: &str, unknowns: &[(usize, Dependencies)]) {
     close(w, list);
 }
 
-fn variable_attributes(v: &Variable) -> Vec<(&'static str, String)> {
-    let mut a = vec![("name", v.name.clone()), ("valueReference", v.value_reference.to_string())];
-    if !v.description.is_empty() {
-        a.push(("description", v.description.clone()));
-    }
-    a.push(("causality", v.causality.as_str().to_string()));
-    a.push(("variability", v.variability.as_str().to_string()));
-    if let Some(i) = v.initial {
-        a.push(("initial", i.as_str().to_string()));
-    }
-    a
-}
-
 fn write_variable(w: &mut Xml, v: &Variable, table: &VariableTable) {
     open(w, "ScalarVariable", &variable_attributes(v));
-    let mut t = Vec::new();
-    // A calculated variable has no start attribute (a mode's start is only the model's first guess).
-    let start = if v.initial == Some(Initial::Calculated) { None } else { v.start };
-    match start {
-        Some(Start::Real(x)) => t.push(("start", real_text(x))),
-        Some(Start::Integer(n)) => t.push(("start", n.to_string())),
-        Some(Start::Boolean(b)) => t.push(("start", yes_no(b))),
-        None => {}
-    }
+    let mut t: Vec<(&str, String)> = start_text(v).map(|s| ("start", s)).into_iter().collect();
     match v.base_type() {
         BaseType::Integer => {
             if let Some(m) = v.min {
@@ -123,7 +102,7 @@ pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &P
             ("providesDirectionalDerivative", yes_no(true)),
         ],
     );
-    write_units(&mut w, table);
+    write_units(&mut w, table, &[]);
     write_log_categories(&mut w);
     write_default_experiment::<M>(&mut w);
     open(&mut w, "ModelVariables", &[]);
