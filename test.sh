@@ -3,10 +3,10 @@
 #   1. builds every FMU once, in release, into dist/ (the tests load these very files), linked for
 #      glibc 2.17 with cargo zigbuild (build-fmus installs the pinned toolchain into .build-tools/
 #      on its first run),
-#   2. runs the Rust tests (unit tests and the native FMI host tests against dist/*.fmu), then
-#      a subset of them under valgrind memcheck (tests/valgrind.sh),
-#   3. creates the Python virtual environment .venv from tests/requirements.txt (pinned),
-#   4. runs the independent checks with pytest (fmpy validate, fmutool -check, fmpy simulate).
+#   2. runs the Rust tests (unit tests and the native FMI host tests against dist/*.fmu),
+#   3. runs a subset of them under valgrind memcheck (tests/valgrind.sh) in the background while
+#   4. it creates the Python virtual environment .venv from tests/requirements.txt (pinned) and
+#      runs the independent checks with pytest (fmpy validate, fmutool -check, fmpy simulate).
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -23,26 +23,47 @@ cargo run --release -p build-fmus
 echo "== Rust tests"
 cargo test --release --workspace
 
-echo "== valgrind memcheck (tests/valgrind.sh)"
-tests/valgrind.sh
+# The system packages the next steps need, installed before anything runs beside anything else
+# (two apt-get at once would wait on each other's lock): valgrind (tests/valgrind.sh) and, for the
+# external co-simulation masters (tests/python/test_coupled_masters.py), ecospy's Debian libtbb12.
+# (grep without -q: with pipefail, -q's early exit could fail ldconfig with SIGPIPE.)
+missing=()
+command -v valgrind >/dev/null || missing+=(valgrind)
+ldconfig -p | grep 'libtbb\.so\.12' >/dev/null || missing+=(libtbb12)
+if [ ${#missing[@]} -gt 0 ]; then
+    if ! DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"; then
+        apt-get update
+        DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
+    fi
+fi
+
+# valgrind runs on one core, the Python tests on the other: both take minutes, and each on its
+# own leaves a core idle. valgrind's output is shown when it is done.
+echo "== valgrind memcheck (tests/valgrind.sh), beside the Python tests; its output follows them"
+mkdir -p target
+tests/valgrind.sh > target/valgrind.log 2>&1 &
+valgrind_pid=$!
+trap 'kill "$valgrind_pid" 2>/dev/null || true' EXIT
 
 echo "== Python environment (.venv, tests/requirements.txt)"
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
 .venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/requirements.txt
-# The external co-simulation masters (tests/python/test_coupled_masters.py): ecospy's native
-# library needs Debian's libtbb12, and its wheel ships the `ecos` and `proxyfmu` executables
-# without the executable bit. Both steps do nothing when already done.
-# (grep without -q: with pipefail, -q's early exit could fail ldconfig with SIGPIPE.)
-if ! ldconfig -p | grep 'libtbb\.so\.12' >/dev/null; then
-    if ! DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libtbb12; then
-        apt-get update
-        DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends libtbb12
-    fi
-fi
+# ecospy's wheel ships the `ecos` and `proxyfmu` executables without the executable bit.
 ecospy_binaries="$(.venv/bin/python -c 'import importlib.util, pathlib; print(pathlib.Path(importlib.util.find_spec("ecospy").origin).parent / "binaries")')"
 chmod +x "$ecospy_binaries/ecos" "$ecospy_binaries/proxyfmu"
 
 echo "== Python tests (fmpy, fmutool)"
-.venv/bin/python -m pytest -q tests/python
+python_status=0
+.venv/bin/python -m pytest -q tests/python || python_status=$?
+
+valgrind_status=0
+wait "$valgrind_pid" || valgrind_status=$?
+trap - EXIT
+echo "== valgrind memcheck output (tests/valgrind.sh, exit status $valgrind_status)"
+cat target/valgrind.log
+if [ "$python_status" -ne 0 ] || [ "$valgrind_status" -ne 0 ]; then
+    echo "FAILED: Python tests exit status $python_status, valgrind exit status $valgrind_status"
+    exit 1
+fi

@@ -591,6 +591,26 @@ mod tests {
     }
 
     #[test]
+    fn fmi3_lists_the_same_structure_in_value_references_with_time_and_indicators() {
+        let d = ModelDescription::of::<Decay>();
+        let x = &d.fmi3.xml;
+        assert!(x.contains(r#"fmiVersion="3.0""#) && x.contains(&format!(r#"instantiationToken="{}""#, d.fmi3.token)), "{x}");
+        assert_ne!(d.fmi3.token, d.fmi2.token, "each version's token hashes its own XML");
+        // Decay has no event indicator: time comes right after its own value references.
+        let n = d.table.variables.len();
+        assert!(x.contains(&format!(r#"<Float64 name="time" valueReference="{n}" description="Simulation time" causality="independent" variability="continuous" unit="s"/>"#)), "{x}");
+        assert!(x.contains(r#"<Output valueReference="4" dependencies="2"/>"#), "{x}");
+        assert!(x.contains(r#"<ContinuousStateDerivative valueReference="3" dependencies="1 2"/>"#), "{x}");
+        assert!(x.contains(r#"<InitialUnknown valueReference="3" dependencies="0 1 2"/>"#), "{x}");
+        assert!(x.contains(r#"derivative="2""#) && x.contains(r#"<Unit name="s">"#), "{x}");
+        // An event indicator is a Float64 of FMI 3.0, after the model's own value references.
+        let b = ModelDescription::of::<crate::test_model::Block>();
+        let n = crate::model::declare::<crate::test_model::Block>().2.variables.len();
+        assert!(b.fmi3.xml.contains(&format!(r#"<EventIndicator valueReference="{n}"/>"#)), "{}", b.fmi3.xml);
+        assert!(b.fmi3.xml.contains(&format!(r#"valueReference="{n}" description="Event indicator"#)), "{}", b.fmi3.xml);
+    }
+
+    #[test]
     fn outputs_never_written_are_problems_naming_them() {
         let d = ModelDescription::of::<crate::test_model::Careless>();
         assert_eq!(d.problems.len(), 2, "{:#?}", d.problems);

@@ -1,8 +1,9 @@
-//! FMI 2.0 runtime: everything that is the same for every FMU, and nothing about motors.
+//! FMI runtime: everything that is the same for every FMU, and nothing about motors.
 //!
 //! A model author implements [`Model`] in plain Rust — declarations, derivatives, outputs —
 //! and writes `fmu_runtime::export_fmu!(MyModel);`. The runtime supplies the rest: every
-//! fmi2 function with the state machine enforced ([`lifecycle`]), the variable stores and their
+//! fmi2 and fmi3 function with its standard's state machine enforced ([`fmi2::states`],
+//! [`fmi3::states`]) over a version-neutral core ([`phase`], [`status`]), the variable stores and their
 //! checks ([`instance`]), the ODE solver ([`integrate`]), FMU state save/restore/serialize
 //! ([`state`]), and the generated modelDescription.xml ([`description`]) and documentation.
 //!

@@ -290,3 +290,30 @@ impl Model for Furlong {
         out[self.y] = k[self.x];
     }
 }
+
+/// A model whose equations panic when its input is negative.
+pub struct Panicky {
+    u: Input,
+    x: State,
+}
+
+impl Model for Panicky {
+    fn info() -> ModelInfo {
+        ModelInfo {
+            name: "Panicky",
+            description: "panics on a negative input",
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 1.0, step_size: 0.1 },
+            solver: Solver::ExplicitRungeKutta,
+            documentation: "",
+        }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        Panicky { u: d.input("u", 1.0, "1").describe("input"), x: d.state("x", 0.0, "1").describe("state") }
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        assert!(k[self.u] >= 0.0, "negative input");
+        der[self.x] = k[self.u];
+    }
+    fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
+}
+

@@ -1,7 +1,7 @@
 //! Every fmi2 function of `fmi2Functions.h`, once, generic over the model. `export_fmu!` wraps
 //! each in an `extern "C"` symbol. Each function:
 //! 1. turns the component pointer into an instance (null -> fmi2Error),
-//! 2. checks the call against the state table (`lifecycle`) -> fmi2Error with the allowed modes,
+//! 2. checks the call against FMI 2.0's state table (`states`) -> fmi2Error with the allowed modes,
 //! 3. turns C arrays into slices (null with n > 0 -> fmi2Error),
 //! 4. runs the safe body inside `catch_unwind`: a panic becomes fmi2Fatal and a logger message,
 //!    never an unwind across the C boundary,
@@ -454,36 +454,8 @@ pub unsafe fn get_nominals_of_continuous_states<M: Model>(c: fmi2Component, x: *
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{DefaultExperiment, ModelInfo, Solver};
-    use crate::values::{Derivatives, Knowns, Outputs};
-    use crate::variables::{Declarations, Input, State};
+    use crate::test_model::Panicky;
     use std::sync::Mutex;
-
-    /// A model whose equations panic when its input is negative.
-    struct Panicky {
-        u: Input,
-        x: State,
-    }
-
-    impl Model for Panicky {
-        fn info() -> ModelInfo {
-            ModelInfo {
-                name: "Panicky",
-                description: "panics on a negative input",
-                default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 1.0, step_size: 0.1 },
-                solver: Solver::ExplicitRungeKutta,
-                documentation: "",
-            }
-        }
-        fn declare(d: &mut Declarations) -> Self {
-            Panicky { u: d.input("u", 1.0, "1").describe("input"), x: d.state("x", 0.0, "1").describe("state") }
-        }
-        fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
-            assert!(k[self.u] >= 0.0, "negative input");
-            der[self.x] = k[self.u];
-        }
-        fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
-    }
 
     static LOG: Mutex<Vec<(i32, String)>> = Mutex::new(Vec::new());
 

@@ -520,3 +520,87 @@ pub const NO_PARTITIONS: &str = "this FMU provides no Scheduled Execution";
 pub unsafe fn not_provided<M: Model>(c: fmi3Instance, name: &str, why: &str) -> fmi3Status {
     unsupported::<M>(c, name, why)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_model::{Decay, Panicky};
+    use std::ffi::CString;
+    use std::sync::Mutex;
+
+    static LOG: Mutex<Vec<(i32, String)>> = Mutex::new(Vec::new());
+
+    unsafe extern "C" fn record(_: fmi3InstanceEnvironment, status: fmi3Status, _: fmi3String, msg: fmi3String) {
+        LOG.lock().unwrap().push((status, std::ffi::CStr::from_ptr(msg).to_string_lossy().into_owned()));
+    }
+
+    fn exported<M: Model>() -> &'static Exported {
+        Box::leak(Box::new(Exported::of::<M>()))
+    }
+
+    unsafe fn co_simulation<M: Model>(exported: &'static Exported, token: &str) -> fmi3Instance {
+        let token = CString::new(token).unwrap();
+        instantiate::<M>(exported, Interface::CoSimulation, c"i".as_ptr(), token.as_ptr(), std::ptr::null_mut(), false, Some(record))
+    }
+
+    unsafe fn step(c: fmi3Instance, t: f64, h: f64) -> (fmi3Status, f64) {
+        let (mut event, mut terminate, mut early, mut last) = (true, true, true, f64::NAN);
+        let status = do_step::<Decay>(c, t, h, 1, &mut event, &mut terminate, &mut early, &mut last);
+        assert!(!event && !terminate && !early, "events are handled inside fmi3DoStep");
+        (status, last)
+    }
+
+    #[test]
+    fn a_wrong_token_is_refused_and_a_panic_is_fatal() {
+        let e = exported::<Panicky>();
+        unsafe {
+            assert!(co_simulation::<Panicky>(e, "{not-this-one}").is_null());
+            assert!(LOG.lock().unwrap().iter().any(|(s, m)| *s == fmi3Error && m.contains("instantiationToken {not-this-one} does not match")));
+            let c = co_simulation::<Panicky>(e, &e.fmi3.token);
+            assert!(!c.is_null());
+            assert_eq!(enter_initialization_mode::<Panicky>(c, 0, 0.0, 0.0, 0, 0.0), fmi3OK);
+            assert_eq!(exit_initialization_mode::<Panicky>(c), fmi3OK);
+            let (vr, u) = ([0u32], [-1.0]);
+            assert_eq!(set_float64::<Panicky>(c, vr.as_ptr(), 1, u.as_ptr(), 1), fmi3OK);
+            let (mut a, mut b, mut d, mut last) = (false, false, false, 0.0);
+            assert_eq!(do_step::<Panicky>(c, 0.0, 0.1, 1, &mut a, &mut b, &mut d, &mut last), fmi3Fatal);
+            assert!(LOG.lock().unwrap().iter().any(|(s, m)| *s == fmi3Fatal && m.contains("negative input")));
+            free_instance::<Panicky>(c);
+        }
+    }
+
+    #[test]
+    fn steps_read_time_and_give_adjoints_from_the_same_jacobian() {
+        let e = exported::<Decay>();
+        unsafe {
+            let c = co_simulation::<Decay>(e, &e.fmi3.token);
+            // Before initialization nothing can be read; the table says where it can.
+            let mut v = [0.0];
+            assert_eq!(get_float64::<Decay>(c, [2u32].as_ptr(), 1, v.as_mut_ptr(), 1), fmi3Error);
+            assert_eq!(enter_initialization_mode::<Decay>(c, 1, 1e-8, 0.0, 1, 1.0), fmi3OK);
+            assert_eq!(exit_initialization_mode::<Decay>(c), fmi3OK);
+            let (status, last) = step(c, 0.0, 0.25);
+            assert_eq!((status, last), (fmi3OK, 0.25));
+            let time = Extra::of(&crate::model::declare::<Decay>().2).time;
+            assert_eq!(get_float64::<Decay>(c, [time].as_ptr(), 1, v.as_mut_ptr(), 1), fmi3OK);
+            assert_eq!(v[0], 0.25);
+            // More values than value references: refused (every variable is a scalar).
+            assert_eq!(get_float64::<Decay>(c, [2u32].as_ptr(), 1, v.as_mut_ptr(), 2), fmi3Error);
+            // A step past the stop time set at initialization is refused.
+            assert_eq!(step(c, 0.25, 1.0).0, fmi3Error);
+            // d(der(x), y)/d(x, u): [[-a, 1], [2, 0]] with a = 2; the adjoint with seed (1, 1)
+            // is the columns' sums: (-2 + 2, 1 + 0).
+            let (unknowns, knowns) = ([3u32, 4], [2u32, 1]);
+            let (seed, mut sensitivity) = ([1.0, 1.0], [0.0; 2]);
+            let status = get_adjoint_derivative::<Decay>(c, unknowns.as_ptr(), 2, knowns.as_ptr(), 2, seed.as_ptr(), 2, sensitivity.as_mut_ptr(), 2);
+            assert_eq!(status, fmi3OK);
+            assert!((sensitivity[0] - 0.0).abs() < 1e-8 && (sensitivity[1] - 1.0).abs() < 1e-8, "{sensitivity:?}");
+            let mut column = [0.0; 2];
+            let status = get_directional_derivative::<Decay>(c, unknowns.as_ptr(), 2, knowns.as_ptr(), 2, [1.0, 0.0].as_ptr(), 2, column.as_mut_ptr(), 2);
+            assert_eq!(status, fmi3OK);
+            assert!((column[0] + 2.0).abs() < 1e-8 && (column[1] - 2.0).abs() < 1e-8, "{column:?}");
+            assert_eq!(not_provided::<Decay>(c, "fmi3GetClock", NO_CLOCKS), fmi3Error);
+            free_instance::<Decay>(c);
+        }
+    }
+}
