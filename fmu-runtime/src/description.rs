@@ -611,6 +611,19 @@ mod tests {
     }
 
     #[test]
+    fn structural_choices_are_enumerations_with_their_items_in_both_versions() {
+        let d = ModelDescription::of::<crate::test_model::Chooser>();
+        assert!(d.problems.is_empty(), "{:?}", d.problems);
+        let (x2, x3) = (&d.fmi2.xml, &d.fmi3.xml);
+        let items = r#"<Item name="single" value="1" description="y = x"/>
+      <Item name="double" value="2" description="y = 2 x"/>"#;
+        assert!(x2.contains(&format!("<TypeDefinitions>\n    <SimpleType name=\"gain\">\n      <Enumeration>\n        {}", items.replace("\n      ", "\n        "))), "{x2}");
+        assert!(x2.contains(r#"<Enumeration declaredType="gain" start="2" min="1" max="2"/>"#), "{x2}");
+        assert!(x3.contains(&format!("<TypeDefinitions>\n    <EnumerationType name=\"gain\">\n      {items}")), "{x3}");
+        assert!(x3.contains(r#"<Enumeration name="gain" valueReference="0" description="gain of the output" causality="parameter" variability="fixed" min="1" max="2" declaredType="gain" start="2"/>"#), "{x3}");
+    }
+
+    #[test]
     fn outputs_never_written_are_problems_naming_them() {
         let d = ModelDescription::of::<crate::test_model::Careless>();
         assert_eq!(d.problems.len(), 2, "{:#?}", d.problems);

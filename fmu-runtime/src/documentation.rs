@@ -29,6 +29,21 @@ fn min_text(min: f64) -> String {
     }
 }
 
+/// An enumerated variable's items ("; items: 1 = a (quasi-static), 2 = b ..."), none for others.
+fn items_text(v: &Variable) -> String {
+    if v.items.is_empty() {
+        return String::new();
+    }
+    let first = v.min.unwrap_or(1.0) as i32;
+    let items: Vec<String> = v
+        .items
+        .iter()
+        .enumerate()
+        .map(|(k, (name, description))| format!("{} = <code>{}</code> ({})", first + k as i32, escape(name), escape(description)))
+        .collect();
+    format!("; Enumeration items: {}", items.join(", "))
+}
+
 fn table(title: &str, vars: &[&Variable]) -> String {
     if vars.is_empty() {
         return String::new();
@@ -47,7 +62,7 @@ fn table(title: &str, vars: &[&Variable]) -> String {
             v.min.map(min_text).unwrap_or_default(),
             v.max.map(real_text).unwrap_or_default(),
             v.variability.as_str(),
-            escape(&v.description)
+            escape(&v.description) + &items_text(v)
         );
     }
     s + "</table>\n"

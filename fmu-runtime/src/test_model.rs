@@ -317,3 +317,36 @@ impl Model for Panicky {
     fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
 }
 
+
+/// dx/dt = -x; y = gain x, with the gain a structural choice among named items (an FMI
+/// Enumeration).
+pub struct Chooser {
+    gain: crate::variables::IntegerParameter,
+    x: State,
+    y: Output,
+}
+
+impl Model for Chooser {
+    fn info() -> ModelInfo {
+        ModelInfo {
+            name: "Chooser",
+            description: "a structural choice with named items",
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 1.0, step_size: 0.1 },
+            solver: Solver::ExplicitRungeKutta,
+            documentation: "",
+        }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        Chooser {
+            gain: d.integer_parameter("gain", 2).choices(1, &[("single", "y = x"), ("double", "y = 2 x")]).describe("gain of the output"),
+            x: d.state("x", 1.0, "1").describe("state"),
+            y: d.output("y", "1").describe("gain times the state"),
+        }
+    }
+    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        der[self.x] = -k[self.x];
+    }
+    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+        out[self.y] = k[self.gain] as f64 * k[self.x];
+    }
+}

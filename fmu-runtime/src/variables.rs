@@ -134,6 +134,9 @@ pub struct Variable {
     pub slot: Slot,
     /// For a state derivative, the value reference of its state.
     pub derivative_of: Option<u32>,
+    /// For a structural choice, its items (name, description), valued min, min + 1, ...: an FMI
+    /// Enumeration (FMI 2.0 read and set as Integer, FMI 3.0 as Int64). Empty for an Integer.
+    pub items: Vec<(String, String)>,
 }
 
 impl Variable {
@@ -444,6 +447,7 @@ impl Declarations {
             nominal: None,
             slot,
             derivative_of: None,
+            items: Vec::new(),
         })
     }
 
@@ -565,6 +569,7 @@ impl Declarations {
             nominal: None,
             slot,
             derivative_of: None,
+            items: Vec::new(),
         })
     }
 
@@ -607,6 +612,7 @@ impl Declarations {
             nominal: None,
             slot: Slot::Integer(i),
             derivative_of: None,
+            items: Vec::new(),
         });
         ModeBuilder { decl: self, pos, handle: Mode(i) }
     }
@@ -838,6 +844,15 @@ impl IntegerBuilder<'_> {
         v.min = Some(min as f64);
         v.max = Some(max as f64);
         self
+    }
+
+    /// A choice among named items (an FMI Enumeration): `first` is the first item's value, each
+    /// next item's one more (the range). Each item is (name, description): ("c", "level c:
+    /// driveshaft elasticity").
+    pub fn choices(self, first: i32, items: &[(&str, &str)]) -> Self {
+        let v = &mut self.decl.table.variables[self.pos];
+        v.items = items.iter().map(|(n, d)| (n.to_string(), d.to_string())).collect();
+        self.range(first, first + items.len().max(1) as i32 - 1)
     }
 
     pub fn describe(self, description: &str) -> IntegerParameter {

@@ -158,3 +158,20 @@ pub fn start_text(v: &Variable) -> Option<String> {
         crate::variables::Start::Boolean(b) => yes_no(b),
     })
 }
+
+/// The enumerated variables (structural choices), each with its own type named after it.
+pub fn enumerations(table: &VariableTable) -> impl Iterator<Item = &Variable> {
+    table.variables.iter().filter(|v| !v.items.is_empty())
+}
+
+/// The items of an enumerated variable's type, as `Item` elements (the same in both versions).
+pub fn write_items(w: &mut Xml, v: &Variable) {
+    let first = v.min.unwrap_or(1.0) as i32;
+    for (k, (name, description)) in v.items.iter().enumerate() {
+        let mut attrs = vec![("name", name.clone()), ("value", (first + k as i32).to_string())];
+        if !description.is_empty() {
+            attrs.push(("description", description.clone()));
+        }
+        empty(w, "Item", &attrs);
+    }
+}

@@ -4,7 +4,7 @@
 use crate::description::{real_text, Dependencies, Package, Structure};
 use crate::model::Model;
 use crate::variables::{BaseType, Variable, VariableTable};
-use crate::xml::{close, document, empty, finish, header_attributes, open, start_text, variable_attributes, write_default_experiment, write_log_categories, write_units, yes_no, Xml, TOKEN_PLACEHOLDER};
+use crate::xml::{close, document, empty, enumerations, finish, write_items, header_attributes, open, start_text, variable_attributes, write_default_experiment, write_log_categories, write_units, yes_no, Xml, TOKEN_PLACEHOLDER};
 
 /// FMI 2.0 lists variables by index: the position in ModelVariables, from 1 (a value
 /// reference is the position, from 0).
@@ -38,7 +38,12 @@ fn write_variable(w: &mut Xml, v: &Variable, table: &VariableTable) {
             if let Some(m) = v.max {
                 t.push(("max", (m as i32).to_string()));
             }
-            empty(w, "Integer", &t);
+            if v.items.is_empty() {
+                empty(w, "Integer", &t);
+            } else {
+                t.insert(0, ("declaredType", v.name.clone()));
+                empty(w, "Enumeration", &t);
+            }
         }
         BaseType::Boolean => empty(w, "Boolean", &t),
         _ => {
@@ -103,6 +108,17 @@ pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &P
         ],
     );
     write_units(&mut w, table, &[]);
+    if enumerations(table).next().is_some() {
+        open(&mut w, "TypeDefinitions", &[]);
+        for v in enumerations(table) {
+            open(&mut w, "SimpleType", &[("name", v.name.clone())]);
+            open(&mut w, "Enumeration", &[]);
+            write_items(&mut w, v);
+            close(&mut w, "Enumeration");
+            close(&mut w, "SimpleType");
+        }
+        close(&mut w, "TypeDefinitions");
+    }
     write_log_categories(&mut w);
     write_default_experiment::<M>(&mut w);
     open(&mut w, "ModelVariables", &[]);

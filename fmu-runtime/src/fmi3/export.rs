@@ -112,6 +112,14 @@ macro_rules! export_fmi3 {
                 f::get_boolean::<M>(c, vr, n, v, nv)
             }
             #[no_mangle]
+            pub unsafe extern "C" fn fmi3GetInt64(c: fmi3Instance, vr: *const fmi3ValueReference, n: usize, v: *mut fmi3Int64, nv: usize) -> fmi3Status {
+                f::get_int64::<M>(c, vr, n, v, nv)
+            }
+            #[no_mangle]
+            pub unsafe extern "C" fn fmi3SetInt64(c: fmi3Instance, vr: *const fmi3ValueReference, n: usize, v: *const fmi3Int64, nv: usize) -> fmi3Status {
+                f::set_int64::<M>(c, vr, n, v, nv)
+            }
+            #[no_mangle]
             pub unsafe extern "C" fn fmi3SetFloat64(c: fmi3Instance, vr: *const fmi3ValueReference, n: usize, v: *const fmi3Float64, nv: usize) -> fmi3Status {
                 f::set_float64::<M>(c, vr, n, v, nv)
             }
@@ -143,7 +151,6 @@ macro_rules! export_fmi3 {
             none_of_type!(fmi3GetInt16, fmi3SetInt16, "Int16");
             none_of_type!(fmi3GetUInt16, fmi3SetUInt16, "UInt16");
             none_of_type!(fmi3GetUInt32, fmi3SetUInt32, "UInt32");
-            none_of_type!(fmi3GetInt64, fmi3SetInt64, "Int64");
             none_of_type!(fmi3GetUInt64, fmi3SetUInt64, "UInt64");
             none_of_type!(fmi3GetString, fmi3SetString, "String");
             #[no_mangle]

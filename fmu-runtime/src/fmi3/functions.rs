@@ -203,8 +203,59 @@ pub unsafe fn get_float64<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReferen
     })
 }
 
+/// FMI 3.0 reads and sets an Enumeration with fmi3Get/SetInt64 and an Int32 with fmi3Get/SetInt32;
+/// both are Integer values in the core. Refuses a value reference of the other kind.
+fn integer_kind(table: &VariableTable, vrs: &[u32], enumeration: bool) -> CallResult {
+    for vr in vrs {
+        if let Some(v) = table.get(*vr).filter(|v| v.base_type() == crate::variables::BaseType::Integer) {
+            match (v.items.is_empty(), enumeration) {
+                (false, false) => return Err(Failure::error(format!("'{}' is an Enumeration: FMI 3.0 reads and sets it with fmi3GetInt64/fmi3SetInt64", v.name))),
+                (true, true) => return Err(Failure::error(format!("'{}' is an Int32, not an Enumeration (use fmi3GetInt32/fmi3SetInt32)", v.name))),
+                _ => {}
+            }
+        } else if enumeration {
+            return Err(Failure::error(match table.get(*vr) {
+                Some(v) => format!("value reference {vr} is the {:?} variable '{}', not an Enumeration", v.base_type(), v.name),
+                None => format!("unknown value reference {vr}"),
+            }));
+        }
+    }
+    Ok(())
+}
+
 pub unsafe fn get_int32<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReference, n: usize, value: *mut fmi3Int32, n_values: usize) -> fmi3Status {
-    get_values::<M, i32>(c, "fmi3GetInt32", vr, n, value, n_values)
+    with::<M>(c, Function::Get, "fmi3GetInt32", |comp| {
+        scalar_count(n, n_values)?;
+        let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        integer_kind(comp.instance.table(), vrs, false)?;
+        comp.instance.get(vrs, slice_mut(value, n).ok_or_else(|| null("the value array"))?)
+    })
+}
+
+/// fmi3GetInt64: the Enumerations (the model's structural choices).
+pub unsafe fn get_int64<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReference, n: usize, value: *mut fmi3Int64, n_values: usize) -> fmi3Status {
+    with::<M>(c, Function::Get, "fmi3GetInt64", |comp| {
+        scalar_count(n, n_values)?;
+        let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        let out = slice_mut(value, n).ok_or_else(|| null("the value array"))?;
+        integer_kind(comp.instance.table(), vrs, true)?;
+        let mut values = vec![0i32; n];
+        comp.instance.get(vrs, &mut values)?;
+        out.iter_mut().zip(values).for_each(|(o, v)| *o = v as i64);
+        Ok(())
+    })
+}
+
+/// fmi3SetInt64: the Enumerations; a value outside 32 bits is outside every item's range.
+pub unsafe fn set_int64<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReference, n: usize, value: *const fmi3Int64, n_values: usize) -> fmi3Status {
+    with::<M>(c, Function::Set, "fmi3SetInt64", |comp| {
+        scalar_count(n, n_values)?;
+        let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        let values = slice(value, n).ok_or_else(|| null("the value array"))?;
+        integer_kind(comp.instance.table(), vrs, true)?;
+        let narrow: Vec<i32> = values.iter().map(|v| i32::try_from(*v).unwrap_or(if *v < 0 { i32::MIN } else { i32::MAX })).collect();
+        comp.instance.set(vrs, &narrow)
+    })
 }
 
 pub unsafe fn get_boolean<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReference, n: usize, value: *mut fmi3Boolean, n_values: usize) -> fmi3Status {
@@ -216,7 +267,12 @@ pub unsafe fn set_float64<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReferen
 }
 
 pub unsafe fn set_int32<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReference, n: usize, value: *const fmi3Int32, n_values: usize) -> fmi3Status {
-    set_values::<M, i32>(c, "fmi3SetInt32", vr, n, slice(value, n), n_values)
+    with::<M>(c, Function::Set, "fmi3SetInt32", |comp| {
+        scalar_count(n, n_values)?;
+        let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        integer_kind(comp.instance.table(), vrs, false)?;
+        comp.instance.set(vrs, slice(value, n).ok_or_else(|| null("the value array"))?)
+    })
 }
 
 pub unsafe fn set_boolean<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReference, n: usize, value: *const fmi3BooleanIn, n_values: usize) -> fmi3Status {
@@ -566,6 +622,30 @@ mod tests {
             assert_eq!(do_step::<Panicky>(c, 0.0, 0.1, 1, &mut a, &mut b, &mut d, &mut last), fmi3Fatal);
             assert!(LOG.lock().unwrap().iter().any(|(s, m)| *s == fmi3Fatal && m.contains("negative input")));
             free_instance::<Panicky>(c);
+        }
+    }
+
+    #[test]
+    fn an_enumeration_is_read_and_set_as_int64_only() {
+        use crate::test_model::Chooser;
+        let e = exported::<Chooser>();
+        unsafe {
+            let token = CString::new(e.fmi3.token.clone()).unwrap();
+            let c = instantiate::<Chooser>(e, Interface::CoSimulation, c"i".as_ptr(), token.as_ptr(), std::ptr::null_mut(), false, Some(record));
+            let vr = [0u32];
+            assert_eq!(set_int64::<Chooser>(c, vr.as_ptr(), 1, [1i64].as_ptr(), 1), fmi3OK);
+            assert_eq!(set_int64::<Chooser>(c, vr.as_ptr(), 1, [3i64].as_ptr(), 1), fmi3Error, "no third item");
+            assert_eq!(set_int64::<Chooser>(c, vr.as_ptr(), 1, [1i64 << 40].as_ptr(), 1), fmi3Error);
+            assert_eq!(set_int32::<Chooser>(c, vr.as_ptr(), 1, [2i32].as_ptr(), 1), fmi3Error);
+            assert!(LOG.lock().unwrap().iter().any(|(_, m)| m.contains("'gain' is an Enumeration")));
+            assert_eq!(enter_initialization_mode::<Chooser>(c, 0, 0.0, 0.0, 0, 0.0), fmi3OK);
+            let mut v = [0i64];
+            assert_eq!(get_int64::<Chooser>(c, vr.as_ptr(), 1, v.as_mut_ptr(), 1), fmi3OK);
+            assert_eq!(v[0], 1);
+            let mut y = [0.0];
+            assert_eq!(get_float64::<Chooser>(c, [3u32].as_ptr(), 1, y.as_mut_ptr(), 1), fmi3OK);
+            assert_eq!(y[0], 1.0, "y = x with the first item");
+            free_instance::<Chooser>(c);
         }
     }
 

@@ -6,7 +6,7 @@ use super::functions::Extra;
 use crate::description::{real_text, Dependencies, Package, Structure};
 use crate::model::Model;
 use crate::variables::{BaseType, Variable, VariableTable};
-use crate::xml::{close, empty, finish, header_attributes, open, start_text, variable_attributes, write_default_experiment, write_log_categories, write_units, yes_no, Xml, TOKEN_PLACEHOLDER};
+use crate::xml::{close, empty, enumerations, finish, write_items, header_attributes, open, start_text, variable_attributes, write_default_experiment, write_log_categories, write_units, yes_no, Xml, TOKEN_PLACEHOLDER};
 
 fn write_unknowns(w: &mut Xml, element: &str, unknowns: &[(usize, Dependencies)]) {
     for (vr, deps) in unknowns {
@@ -24,7 +24,12 @@ fn write_variable(w: &mut Xml, v: &Variable) {
         BaseType::Integer => {
             a.extend(v.min.map(|m| ("min", (m as i32).to_string())));
             a.extend(v.max.map(|m| ("max", (m as i32).to_string())));
-            "Int32"
+            if v.items.is_empty() {
+                "Int32"
+            } else {
+                a.push(("declaredType", v.name.clone()));
+                "Enumeration"
+            }
         }
         BaseType::Boolean => "Boolean",
         _ => {
@@ -78,6 +83,15 @@ pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &P
         ],
     );
     write_units(&mut w, table, &["s"]);
+    if enumerations(table).next().is_some() {
+        open(&mut w, "TypeDefinitions", &[]);
+        for v in enumerations(table) {
+            open(&mut w, "EnumerationType", &[("name", v.name.clone())]);
+            write_items(&mut w, v);
+            close(&mut w, "EnumerationType");
+        }
+        close(&mut w, "TypeDefinitions");
+    }
     write_log_categories(&mut w);
     write_default_experiment::<M>(&mut w);
     open(&mut w, "ModelVariables", &[]);
