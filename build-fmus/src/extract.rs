@@ -7,9 +7,14 @@
 //! extern "C" fn fmu_runtime_model_description() -> *const c_char  // modelDescription.xml
 //! extern "C" fn fmu_runtime_documentation() -> *const c_char      // an HTML page
 //! extern "C" fn fmu_runtime_model_problems() -> *const c_char     // NULL, or what is wrong
-//! extern "C" fn fmu_runtime_model_description_fmi3() -> *const c_char  // FMI 3.0's
-//! extern "C" fn fmu_runtime_documentation_fmi3() -> *const c_char      // FMI 3.0's page
+//! extern "C" fn fmu_runtime_standards() -> *const c_char          // "2.0\t\tlinux64\n3.0\tfmi3\t..."
+//! extern "C" fn fmu_runtime_model_description_of(n: usize) -> *const c_char  // the n-th's XML
+//! extern "C" fn fmu_runtime_documentation_of(n: usize) -> *const c_char      // and page
 //! ```
+//!
+//! The standards' list says, for each FMI version the library exports, where its FMU goes
+//! (a folder of the output directory, empty for the directory itself) and the name of its
+//! binaries folder: build-fmus names no FMI version itself.
 //!
 //! Each returns a NUL-terminated UTF-8 string that stays valid while the library is loaded.
 //! The library is loaded, the three strings are copied, and it is unloaded again.
@@ -33,10 +38,11 @@ pub const EFFECTS_TEXT_SYMBOL: &str = "fmu_runtime_effects_text";
 /// `fmu_runtime::documentation::ACTIVITY_TABLE_MARK` writes.
 pub const ACTIVITY_TABLE_MARK: &str = "<!-- activity table of the default experiment -->\n";
 
-/// The FMI 3.0 twins of the description and documentation symbols (a library built by an older
-/// runtime has none: it makes no FMI 3.0 FMU).
-pub const DESCRIPTION_FMI3_SYMBOL: &str = "fmu_runtime_model_description_fmi3";
-pub const DOCUMENTATION_FMI3_SYMBOL: &str = "fmu_runtime_documentation_fmi3";
+/// The standards' list and each one's description and page (a library built by an older
+/// runtime has none: it makes one FMI 2.0 FMU from the plain symbols).
+pub const STANDARDS_SYMBOL: &str = "fmu_runtime_standards";
+pub const DESCRIPTION_OF_SYMBOL: &str = "fmu_runtime_model_description_of";
+pub const DOCUMENTATION_OF_SYMBOL: &str = "fmu_runtime_documentation_of";
 
 /// The problems symbol's name: the model's declaration problems, NULL when there are none.
 pub const PROBLEMS_SYMBOL: &str = "fmu_runtime_model_problems";
@@ -52,13 +58,19 @@ pub struct ModelInfo {
     pub documentation: String,
     /// Table 3.1 and the activity table as text (empty for a model without elements).
     pub effects: String,
-    /// The FMI 3.0 modelDescription.xml and documentation page, if the library has them.
-    pub fmi3: Option<Fmi3Info>,
+    /// One FMU per FMI version the library exports (the first is the one above, FMI 2.0).
+    pub editions: Vec<Edition>,
 }
 
-/// What the same library says about itself as an FMI 3.0 FMU.
+/// The same library as an FMU of one FMI version.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Fmi3Info {
+pub struct Edition {
+    /// "2.0", "3.0".
+    pub version: String,
+    /// Where its FMU goes, inside the output directory ("" for the directory itself).
+    pub folder: String,
+    /// Its binaries folder (`linux64`, `x86_64-linux`).
+    pub platform: String,
     pub description: String,
     pub documentation: String,
 }
@@ -99,10 +111,28 @@ pub fn extract(path: &Path, package: &str) -> Result<ModelInfo, String> {
         None => Ok(page),
     };
     let documentation = with_table(call_string(&lib, DOCUMENTATION_SYMBOL, package)?)?;
-    let fmi3 = match (call_optional_string(&lib, DESCRIPTION_FMI3_SYMBOL)?, call_optional_string(&lib, DOCUMENTATION_FMI3_SYMBOL)?) {
-        (Some(description), Some(page)) => Some(Fmi3Info { description, documentation: with_table(page)? }),
-        _ => None,
-    };
+    let mut editions = Vec::new();
+    for (n, line) in call_optional_string(&lib, STANDARDS_SYMBOL)?.unwrap_or_default().lines().enumerate() {
+        let [version, folder, platform] = line.split('\t').collect::<Vec<_>>()[..] else {
+            return Err(format!("{package}: `{STANDARDS_SYMBOL}` line {line:?} is not version, folder and platform"));
+        };
+        if folder.contains(['/', '\\', '.']) {
+            return Err(format!("{package}: `{STANDARDS_SYMBOL}` names the folder {folder:?}: one plain name only"));
+        }
+        editions.push(Edition {
+            version: version.to_owned(),
+            folder: folder.to_owned(),
+            platform: platform.to_owned(),
+            description: call_indexed_string(&lib, DESCRIPTION_OF_SYMBOL, n, package)?,
+            documentation: with_table(call_indexed_string(&lib, DOCUMENTATION_OF_SYMBOL, n, package)?)?,
+        });
+    }
+    if editions.is_empty() {
+        let platform = crate::package::platform().map(|(dir, _)| dir.to_owned()).ok_or_else(|| {
+            format!("{package}: FMI 2.0 defines no binaries/ folder for {}-{}", std::env::consts::OS, std::env::consts::ARCH)
+        })?;
+        editions.push(Edition { version: "2.0".into(), folder: String::new(), platform, description: description.clone(), documentation: documentation.clone() });
+    }
     let effects = call_optional_string(&lib, EFFECTS_TEXT_SYMBOL)?.unwrap_or_default();
     drop(lib);
     let info = ModelInfo {
@@ -110,7 +140,7 @@ pub fn extract(path: &Path, package: &str) -> Result<ModelInfo, String> {
         description,
         documentation,
         effects,
-        fmi3,
+        editions,
     };
     check(&info, package)?;
     Ok(info)
@@ -137,6 +167,22 @@ fn call_string(lib: &Library, symbol: &str, package: &str) -> Result<String, Str
     let bytes = unsafe { CStr::from_ptr(ptr) }.to_bytes();
     String::from_utf8(bytes.to_vec())
         .map_err(|e| format!("{package}: `{symbol}` returned text that is not UTF-8: {e}"))
+}
+
+/// Calls the exported `extern "C" fn(usize) -> *const c_char` named `symbol` with `n` and copies
+/// its string.
+fn call_indexed_string(lib: &Library, symbol: &str, n: usize, package: &str) -> Result<String, String> {
+    // SAFETY: the export macro defines the symbol with exactly this signature.
+    let f = unsafe { lib.get::<unsafe extern "C" fn(usize) -> *const c_char>(symbol) }
+        .map_err(|e| format!("{package}: the library lists its standards but does not export `{symbol}`: {}", chain(&e)))?;
+    // SAFETY: as in `call_string`; a null result (no n-th standard) is an error below.
+    let ptr = unsafe { f(n) };
+    if ptr.is_null() {
+        return Err(format!("{package}: `{symbol}({n})` returned a null pointer"));
+    }
+    // SAFETY: non-null and NUL-terminated by contract, valid while the library is loaded.
+    let bytes = unsafe { CStr::from_ptr(ptr) }.to_bytes();
+    String::from_utf8(bytes.to_vec()).map_err(|e| format!("{package}: `{symbol}({n})` returned text that is not UTF-8: {e}"))
 }
 
 /// Like [`call_string`], for a symbol whose NULL result means "nothing to say".
@@ -171,28 +217,37 @@ fn chain(e: &dyn std::error::Error) -> String {
 /// The checks that keep a wrong FMU from being written.
 fn check(info: &ModelInfo, package: &str) -> Result<(), String> {
     validate_identifier(&info.identifier).map_err(|e| format!("{package}: {e}"))?;
-    if !info.description.contains("<fmiModelDescription") {
+    check_one(&info.identifier, &info.description, &info.documentation, DESCRIPTION_SYMBOL, package)?;
+    for e in &info.editions {
+        check_one(&info.identifier, &e.description, &e.documentation, &format!("{DESCRIPTION_OF_SYMBOL} (FMI {})", e.version), package)?;
+    }
+    Ok(())
+}
+
+/// One standard's description and page: a model description naming the library's identifier,
+/// and a page that is not empty.
+fn check_one(identifier: &str, description: &str, documentation: &str, symbol: &str, package: &str) -> Result<(), String> {
+    if !description.contains("<fmiModelDescription") {
         return Err(format!(
-            "{package}: `{DESCRIPTION_SYMBOL}` did not return a modelDescription.xml \
+            "{package}: `{symbol}` did not return a modelDescription.xml \
              (no <fmiModelDescription element)"
         ));
     }
-    let named = attribute_values(&info.description, "modelIdentifier");
+    let named = attribute_values(description, "modelIdentifier");
     if named.is_empty() {
         return Err(format!(
             "{package}: modelDescription.xml has no modelIdentifier attribute"
         ));
     }
-    if let Some(other) = named.iter().find(|n| **n != info.identifier) {
+    if let Some(other) = named.iter().find(|n| **n != identifier) {
         return Err(format!(
             "{package}: modelDescription.xml names modelIdentifier \"{other}\" but the library \
-             says \"{}\"",
-            info.identifier
+             says \"{identifier}\""
         ));
     }
-    if info.documentation.trim().is_empty() {
+    if documentation.trim().is_empty() {
         return Err(format!(
-            "{package}: `{DOCUMENTATION_SYMBOL}` returned an empty page"
+            "{package}: the documentation page of `{symbol}` is empty"
         ));
     }
     Ok(())
@@ -271,7 +326,7 @@ mod tests {
             description: xml.into(),
             documentation: "<html></html>".into(),
             effects: String::new(),
-            fmi3: None,
+            editions: Vec::new(),
         }
     }
 

@@ -501,48 +501,42 @@ fn package_systems(
     (written, failed)
 }
 
-/// Zips one model into `<out_dir>/<identifier>.fmu` (creating `out_dir` if needed), with its
-/// figures from `<root>/docs/figures`, and the same binary as an FMI 3.0 FMU into
-/// `<out_dir>/fmi3/<identifier>.fmu`; returns the FMI 2.0 FMU's path and size.
+/// Zips one model into one FMU per FMI version its library exports, `<out_dir>/<folder>/<identifier>.fmu`
+/// (the library names each folder; FMI 2.0's is `out_dir` itself, FMI 3.0's `fmi3`), creating the
+/// folders if needed, with its figures from `<root>/docs/figures`; returns the first one's (FMI
+/// 2.0's) path and size.
 fn package_one(
     root: &Path,
     out_dir: &Path,
     lib_path: &Path,
     info: &extract::ModelInfo,
 ) -> Result<(PathBuf, u64), String> {
-    fs::create_dir_all(out_dir)
-        .map_err(|e| format!("could not create {}: {e}", out_dir.display()))?;
     let binary =
         fs::read(lib_path).map_err(|e| format!("could not read {}: {e}", lib_path.display()))?;
-    let path = out_dir.join(format!("{}.fmu", info.identifier));
     let figures = figures::find(root, &info.identifier)?;
     let icon = icon::png(&info.identifier);
-    let write = |path: &Path, standard, description: &str, page: &str| {
-        let documentation = figures::with_figures(page, &figures);
-        package::write_fmu(
-            path,
+    let mut first = None;
+    for edition in &info.editions {
+        let dir = out_dir.join(&edition.folder);
+        fs::create_dir_all(&dir).map_err(|e| format!("could not create {}: {e}", dir.display()))?;
+        let path = dir.join(format!("{}.fmu", info.identifier));
+        let documentation = figures::with_figures(&edition.documentation, &figures);
+        let size = package::write_fmu(
+            &path,
             &package::FmuContents {
-                standard,
+                platform: &edition.platform,
                 identifier: &info.identifier,
-                model_description: description.as_bytes(),
+                model_description: edition.description.as_bytes(),
                 icon: &icon,
                 binary: &binary,
                 documentation: documentation.as_bytes(),
                 figures: &figures,
             },
-        )
-    };
-    let size = write(&path, package::Standard::Fmi2, &info.description, &info.documentation)?;
-    if let Some(fmi3) = &info.fmi3 {
-        let dir = out_dir.join(FMI3_DIR);
-        fs::create_dir_all(&dir).map_err(|e| format!("could not create {}: {e}", dir.display()))?;
-        write(&dir.join(format!("{}.fmu", info.identifier)), package::Standard::Fmi3, &fmi3.description, &fmi3.documentation)?;
+        )?;
+        first.get_or_insert((path, size));
     }
-    Ok((path, size))
+    first.ok_or_else(|| format!("{}: the library exports no FMI version", info.identifier))
 }
-
-/// Where the FMI 3.0 FMUs go, inside the output directory.
-const FMI3_DIR: &str = "fmi3";
 
 fn main() -> ExitCode {
     let opts = match parse_args(std::env::args_os().skip(1)) {

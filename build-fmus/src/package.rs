@@ -22,17 +22,12 @@ use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
-/// The standard an FMU follows: it names the binaries' folder.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Standard {
-    Fmi2,
-    Fmi3,
-}
-
 /// What goes into one FMU.
 #[derive(Debug, Clone, Copy)]
 pub struct FmuContents<'a> {
-    pub standard: Standard,
+    /// The binaries folder's name, as the FMU's standard names the platform (`linux64`,
+    /// `x86_64-linux`).
+    pub platform: &'a str,
     /// The modelIdentifier; names the binary entry.
     pub identifier: &'a str,
     /// modelDescription.xml.
@@ -61,33 +56,14 @@ pub fn platform() -> Option<(&'static str, &'static str)> {
     }
 }
 
-/// The FMI 3.0 name of the platform (`x86_64-linux`: the architecture and the operating
-/// system, FMI 3.0 section 2.5.1.1).
-pub fn platform_fmi3() -> Option<&'static str> {
-    match (std::env::consts::OS, std::env::consts::ARCH) {
-        ("linux", "x86_64") => Some("x86_64-linux"),
-        ("linux", "x86") => Some("x86-linux"),
-        ("linux", "aarch64") => Some("aarch64-linux"),
-        ("macos", "x86_64") => Some("x86_64-darwin"),
-        ("macos", "aarch64") => Some("aarch64-darwin"),
-        ("windows", "x86_64") => Some("x86_64-windows"),
-        ("windows", "x86") => Some("x86-windows"),
-        _ => None,
-    }
-}
-
-/// The entry names of an FMU for `identifier`, in archive order.
-pub fn entry_names(identifier: &str, standard: Standard) -> Result<[String; 4], String> {
-    let none = |version: &str| format!("FMI {version} defines no binaries/ folder for {}-{}", std::env::consts::OS, std::env::consts::ARCH);
-    let (dir, ext) = platform().ok_or_else(|| none("2.0"))?;
-    let dir = match standard {
-        Standard::Fmi2 => dir,
-        Standard::Fmi3 => platform_fmi3().ok_or_else(|| none("3.0"))?,
-    };
+/// The entry names of an FMU for `identifier` with its binary in `binaries/<platform>/`, in
+/// archive order.
+pub fn entry_names(identifier: &str, platform: &str) -> Result<[String; 4], String> {
+    let (_, ext) = self::platform().ok_or_else(|| format!("no shared-library extension known for {}-{}", std::env::consts::OS, std::env::consts::ARCH))?;
     Ok([
         "modelDescription.xml".to_owned(),
         "model.png".to_owned(),
-        format!("binaries/{dir}/{identifier}.{ext}"),
+        format!("binaries/{platform}/{identifier}.{ext}"),
         "documentation/index.html".to_owned(),
     ])
 }
@@ -97,7 +73,7 @@ const BINARY: usize = 2;
 
 /// The archive's bytes.
 pub fn fmu_bytes(contents: &FmuContents) -> Result<Vec<u8>, String> {
-    let names = entry_names(contents.identifier, contents.standard)?;
+    let names = entry_names(contents.identifier, contents.platform)?;
     let data = [
         contents.model_description,
         contents.icon,
@@ -168,7 +144,7 @@ mod tests {
 
     fn contents(binary: &[u8]) -> FmuContents<'_> {
         FmuContents {
-            standard: Standard::Fmi2,
+            platform: "linux64",
             identifier: "RlcCircuit",
             model_description: b"<?xml version=\"1.0\"?><fmiModelDescription/>",
             icon: b"\x89PNG icon",
@@ -182,7 +158,7 @@ mod tests {
     #[test]
     fn entry_names_are_the_fmi_layout() {
         assert_eq!(
-            entry_names("RlcCircuit", Standard::Fmi2).unwrap(),
+            entry_names("RlcCircuit", "linux64").unwrap(),
             [
                 "modelDescription.xml",
                 "model.png",
@@ -190,8 +166,7 @@ mod tests {
                 "documentation/index.html"
             ]
         );
-        // FMI 3.0 names the folder by architecture and system (FMI 3.0, section 2.5.1.1).
-        assert_eq!(entry_names("RlcCircuit", Standard::Fmi3).unwrap()[2], "binaries/x86_64-linux/RlcCircuit.so");
+        assert_eq!(entry_names("RlcCircuit", "x86_64-linux").unwrap()[2], "binaries/x86_64-linux/RlcCircuit.so");
     }
 
     #[test]
@@ -203,7 +178,7 @@ mod tests {
         assert_eq!(size, fs::metadata(&path).unwrap().len());
 
         let mut archive = zip::ZipArchive::new(fs::File::open(&path).unwrap()).unwrap();
-        let names = entry_names("RlcCircuit", Standard::Fmi2).unwrap();
+        let names = entry_names("RlcCircuit", "linux64").unwrap();
         assert_eq!(archive.len(), 4);
         let expected: [&[u8]; 4] = [
             contents(&binary).model_description,

@@ -16,16 +16,15 @@ use std::collections::BTreeSet;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use crate::model::Model;
+use crate::standards::Standard;
 use crate::values::Values;
 use crate::variables::{Causality, Initial, Slot, Variable, VariableTable};
 
 /// What a model says about itself: its variables, the structure of its equations, its problems,
 /// and the modelDescription.xml of each standard written from them.
 pub struct ModelDescription {
-    /// FMI 2.0: the XML and its guid.
-    pub fmi2: Document,
-    /// FMI 3.0: the XML and its instantiationToken.
-    pub fmi3: Document,
+    /// Each exported standard's XML and token (`standards::ALL` order).
+    pub documents: Vec<(Standard, Document)>,
     /// The model crate's version, authors, license and source date (in the XML's header).
     pub package: Package,
     pub table: VariableTable,
@@ -547,6 +546,11 @@ impl Document {
 }
 
 impl ModelDescription {
+    /// One standard's XML and token.
+    pub fn document(&self, standard: Standard) -> &Document {
+        &self.documents.iter().find(|(s, _)| *s == standard).expect("every standard of standards::ALL").1
+    }
+
     /// The description of a model with no package information (the runtime's own tests).
     pub fn of<M: Model>() -> ModelDescription {
         Self::with_package::<M>(&Package::default())
@@ -566,9 +570,8 @@ impl ModelDescription {
         // An output never written is constant too: it is reported once, as never written.
         let fresh: Vec<String> = constant.into_iter().filter(|c| !problems.iter().any(|p| same_variable(p, c))).collect();
         problems.extend(fresh);
-        let fmi2 = Document::stamped(crate::fmi2::xml::write::<M>(&table, &structure, package));
-        let fmi3 = Document::stamped(crate::fmi3::xml::write::<M>(&table, &structure, package));
-        ModelDescription { fmi2, fmi3, package: *package, table, structure, problems }
+        let documents = crate::standards::ALL.iter().map(|s| (*s, Document::stamped(s.write_xml::<M>(&table, &structure, package)))).collect();
+        ModelDescription { documents, package: *package, table, structure, problems }
     }
 }
 
@@ -587,15 +590,15 @@ mod tests {
         assert_eq!(s.derivatives, vec![(3, set(&[1, 2]))]);
         assert_eq!(s.initial_unknowns, vec![(3, set(&[0, 1, 2])), (4, set(&[2])), (5, set(&[0, 1]))]);
         // FMI 2.0 says it in 1-based indices.
-        assert!(d.fmi2.xml.contains(r#"<Unknown index="4" dependencies="2 3"/>"#), "{}", d.fmi2.xml);
+        assert!(d.document(Standard::Fmi2).xml.contains(r#"<Unknown index="4" dependencies="2 3"/>"#), "{}", d.document(Standard::Fmi2).xml);
     }
 
     #[test]
     fn fmi3_lists_the_same_structure_in_value_references_with_time_and_indicators() {
         let d = ModelDescription::of::<Decay>();
-        let x = &d.fmi3.xml;
-        assert!(x.contains(r#"fmiVersion="3.0""#) && x.contains(&format!(r#"instantiationToken="{}""#, d.fmi3.token)), "{x}");
-        assert_ne!(d.fmi3.token, d.fmi2.token, "each version's token hashes its own XML");
+        let x = &d.document(Standard::Fmi3).xml;
+        assert!(x.contains(r#"fmiVersion="3.0""#) && x.contains(&format!(r#"instantiationToken="{}""#, d.document(Standard::Fmi3).token)), "{x}");
+        assert_ne!(d.document(Standard::Fmi3).token, d.document(Standard::Fmi2).token, "each version's token hashes its own XML");
         // Decay has no event indicator: time comes right after its own value references.
         let n = d.table.variables.len();
         assert!(x.contains(&format!(r#"<Float64 name="time" valueReference="{n}" description="Simulation time" causality="independent" variability="continuous" unit="s"/>"#)), "{x}");
@@ -606,15 +609,15 @@ mod tests {
         // An event indicator is a Float64 of FMI 3.0, after the model's own value references.
         let b = ModelDescription::of::<crate::test_model::Block>();
         let n = crate::model::declare::<crate::test_model::Block>().2.variables.len();
-        assert!(b.fmi3.xml.contains(&format!(r#"<EventIndicator valueReference="{n}"/>"#)), "{}", b.fmi3.xml);
-        assert!(b.fmi3.xml.contains(&format!(r#"valueReference="{n}" description="Event indicator"#)), "{}", b.fmi3.xml);
+        assert!(b.document(Standard::Fmi3).xml.contains(&format!(r#"<EventIndicator valueReference="{n}"/>"#)), "{}", b.document(Standard::Fmi3).xml);
+        assert!(b.document(Standard::Fmi3).xml.contains(&format!(r#"valueReference="{n}" description="Event indicator"#)), "{}", b.document(Standard::Fmi3).xml);
     }
 
     #[test]
     fn structural_choices_are_enumerations_with_their_items_in_both_versions() {
         let d = ModelDescription::of::<crate::test_model::Chooser>();
         assert!(d.problems.is_empty(), "{:?}", d.problems);
-        let (x2, x3) = (&d.fmi2.xml, &d.fmi3.xml);
+        let (x2, x3) = (&d.document(Standard::Fmi2).xml, &d.document(Standard::Fmi3).xml);
         let items = r#"<Item name="single" value="1" description="y = x"/>
       <Item name="double" value="2" description="y = 2 x"/>"#;
         assert!(x2.contains(&format!("<TypeDefinitions>\n    <SimpleType name=\"gain\">\n      <Enumeration>\n        {}", items.replace("\n      ", "\n        "))), "{x2}");
@@ -641,7 +644,7 @@ mod tests {
         assert_eq!(d.problems.len(), 2, "{:#?}", d.problems);
         assert!(d.problems[0].contains("'length' has the unit 'furlong'"), "{}", d.problems[0]);
         assert!(d.problems[1].contains("'count' has no unit"), "{}", d.problems[1]);
-        assert!(!d.fmi2.xml.contains(r#"<Unit name="furlong">"#));
+        assert!(!d.document(Standard::Fmi2).xml.contains(r#"<Unit name="furlong">"#));
     }
 
     #[test]
@@ -653,7 +656,7 @@ mod tests {
         assert!(p.contains("output 'stuck' depends on nothing") && p.contains("Fix:"), "{p}");
         // An output only time moves ('clock') is a signal: FMI lists it with no dependencies;
         // so is one only a tunable parameter moves ('echo').
-        assert!(d.fmi2.xml.contains(r#"name="clock""#) && d.fmi2.xml.contains(r#"name="echo""#));
+        assert!(d.document(Standard::Fmi2).xml.contains(r#"name="clock""#) && d.document(Standard::Fmi2).xml.contains(r#"name="echo""#));
     }
 
     #[test]
@@ -668,31 +671,31 @@ mod tests {
         // While stepping, T is a known like any state.
         assert_eq!(s.outputs, vec![(6, set(&[4]))]);
         assert_eq!(s.derivatives, vec![(5, set(&[3, 4]))]);
-        assert!(d.fmi2.xml.contains(r#"<ScalarVariable name="T" valueReference="4" description="temperature" causality="local" variability="continuous" initial="calculated">"#), "{}", d.fmi2.xml);
+        assert!(d.document(Standard::Fmi2).xml.contains(r#"<ScalarVariable name="T" valueReference="4" description="temperature" causality="local" variability="continuous" initial="calculated">"#), "{}", d.document(Standard::Fmi2).xml);
     }
 
     #[test]
     fn xml_is_escaped_and_guid_is_a_content_hash() {
         let d = ModelDescription::of::<Decay>();
-        assert!(d.fmi2.xml.contains("test &lt;model&gt; &amp; &quot;quotes&quot;"), "{}", d.fmi2.xml);
-        assert!(d.fmi2.xml.contains(&format!("guid=\"{}\"", d.fmi2.token)));
-        assert!(!d.fmi2.xml.contains(crate::xml::TOKEN_PLACEHOLDER));
-        assert_eq!(d.fmi2.token, ModelDescription::of::<Decay>().fmi2.token, "deterministic");
-        assert!(d.fmi2.xml.contains(r#"<Real unit="Hz/s" derivative="3"/>"#) || d.fmi2.xml.contains(r#"derivative="3""#));
-        assert!(d.fmi2.xml.contains(r#"<Unit name="Hz">"#));
+        assert!(d.document(Standard::Fmi2).xml.contains("test &lt;model&gt; &amp; &quot;quotes&quot;"), "{}", d.document(Standard::Fmi2).xml);
+        assert!(d.document(Standard::Fmi2).xml.contains(&format!("guid=\"{}\"", d.document(Standard::Fmi2).token)));
+        assert!(!d.document(Standard::Fmi2).xml.contains(crate::xml::TOKEN_PLACEHOLDER));
+        assert_eq!(d.document(Standard::Fmi2).token, ModelDescription::of::<Decay>().document(Standard::Fmi2).token, "deterministic");
+        assert!(d.document(Standard::Fmi2).xml.contains(r#"<Real unit="Hz/s" derivative="3"/>"#) || d.document(Standard::Fmi2).xml.contains(r#"derivative="3""#));
+        assert!(d.document(Standard::Fmi2).xml.contains(r#"<Unit name="Hz">"#));
     }
 
     #[test]
     fn modes_are_discrete_integer_locals_and_indicators_are_counted() {
         let d = ModelDescription::of::<crate::test_model::Block>();
-        assert!(d.fmi2.xml.contains(r#"numberOfEventIndicators="1""#), "{}", d.fmi2.xml);
+        assert!(d.document(Standard::Fmi2).xml.contains(r#"numberOfEventIndicators="1""#), "{}", d.document(Standard::Fmi2).xml);
         assert!(
-            d.fmi2.xml.contains(r#"name="friction_mode" valueReference="8" description="-1 slipping backwards, 0 stuck, 1 slipping forwards" causality="local" variability="discrete" initial="calculated">"#),
+            d.document(Standard::Fmi2).xml.contains(r#"name="friction_mode" valueReference="8" description="-1 slipping backwards, 0 stuck, 1 slipping forwards" causality="local" variability="discrete" initial="calculated">"#),
             "{}",
-            d.fmi2.xml
+            d.document(Standard::Fmi2).xml
         );
-        assert!(d.fmi2.xml.contains(r#"<Integer min="-1" max="1"/>"#), "no start for a calculated mode: {}", d.fmi2.xml);
-        assert!(d.fmi2.xml.contains(r#"name="state_events""#));
+        assert!(d.document(Standard::Fmi2).xml.contains(r#"<Integer min="-1" max="1"/>"#), "no start for a calculated mode: {}", d.document(Standard::Fmi2).xml);
+        assert!(d.document(Standard::Fmi2).xml.contains(r#"name="state_events""#));
         // Variable::is_mode, which the instance uses to skip mode bookkeeping: the modes, not other integers.
         let table = crate::model::declare::<crate::test_model::Block>().2;
         let modes: Vec<&str> = table.variables.iter().filter(|v| v.is_mode()).map(|v| v.name.as_str()).collect();
@@ -702,7 +705,7 @@ mod tests {
         for (_, deps) in d.structure.derivatives.iter().chain(&d.structure.outputs) {
             assert!(!deps.as_ref().is_some_and(|s| s.contains(&8)));
         }
-        assert_eq!(ModelDescription::of::<Decay>().fmi2.xml.contains(r#"numberOfEventIndicators="0""#), true);
+        assert_eq!(ModelDescription::of::<Decay>().document(Standard::Fmi2).xml.contains(r#"numberOfEventIndicators="0""#), true);
     }
 
     #[test]
@@ -710,17 +713,17 @@ mod tests {
         let package = Package { version: "1.2.3", authors: "The X contributors:Ada", license: "MIT", source_date_epoch: Some("1764625589") };
         let d = ModelDescription::with_package::<Decay>(&package);
         assert!(
-            d.fmi2.xml.contains(r#"author="The X contributors, Ada" version="1.2.3" copyright="Copyright (c) 2025 The X contributors, Ada" license="MIT" generationTool="fmu-runtime"#),
+            d.document(Standard::Fmi2).xml.contains(r#"author="The X contributors, Ada" version="1.2.3" copyright="Copyright (c) 2025 The X contributors, Ada" license="MIT" generationTool="fmu-runtime"#),
             "{}",
-            d.fmi2.xml
+            d.document(Standard::Fmi2).xml
         );
-        assert!(d.fmi2.xml.contains(r#"generationDateAndTime="2025-12-01T21:46:29Z" numberOfEventIndicators="0""#), "{}", d.fmi2.xml);
+        assert!(d.document(Standard::Fmi2).xml.contains(r#"generationDateAndTime="2025-12-01T21:46:29Z" numberOfEventIndicators="0""#), "{}", d.document(Standard::Fmi2).xml);
         // The same package gives the same guid; another date another one (the date is in the hashed XML).
-        assert_eq!(d.fmi2.token, ModelDescription::with_package::<Decay>(&package).fmi2.token);
+        assert_eq!(d.document(Standard::Fmi2).token, ModelDescription::with_package::<Decay>(&package).document(Standard::Fmi2).token);
         let later = Package { source_date_epoch: Some("1764625590"), ..package };
-        assert_ne!(d.fmi2.token, ModelDescription::with_package::<Decay>(&later).fmi2.token);
+        assert_ne!(d.document(Standard::Fmi2).token, ModelDescription::with_package::<Decay>(&later).document(Standard::Fmi2).token);
         // Without a package (or an unreadable date) the attributes are left out, not made up.
-        let bare = ModelDescription::of::<Decay>().fmi2.xml;
+        let bare = ModelDescription::of::<Decay>().document(Standard::Fmi2).xml.clone();
         let header = bare.lines().find(|l| l.starts_with("<fmiModelDescription")).unwrap();
         for attribute in [" author=", " version=", " copyright=", " license=", " generationDateAndTime="] {
             assert!(!header.contains(attribute), "{attribute}: {header}");

@@ -115,7 +115,7 @@ fn effects_section(elements: &[crate::elements::ElementInfo]) -> String {
 
 /// What the documentation page says differently for each standard: its version, what it calls
 /// the token, and the functions a user reads about.
-pub struct Standard {
+pub struct Words {
     pub version: &'static str,
     /// FMI 2.0 `guid`, FMI 3.0 `instantiationToken`.
     pub token_name: &'static str,
@@ -131,7 +131,7 @@ pub struct Standard {
 }
 
 /// The documentation page of a model, for one standard's FMU.
-pub fn html<M: Model>(d: &ModelDescription, document: &Document, w: &Standard) -> String {
+pub fn html<M: Model>(d: &ModelDescription, document: &Document, w: &Words) -> String {
     let info = M::info();
     let vars = &d.table.variables;
     let of = |c: Causality| vars.iter().filter(|v| v.causality == c).collect::<Vec<_>>();

@@ -4,8 +4,9 @@
 /// `fmi2Functions.h` and of FMI 3.0 `fmi3Functions.h` (Co-Simulation and Model Exchange; one
 /// binary serves both standards' FMUs), and the functions `build-fmus` reads:
 /// `fmu_runtime_model_identifier`, `fmu_runtime_model_description` and
-/// `fmu_runtime_documentation` (FMI 2.0), their `_fmi3` twins, `fmu_runtime_model_problems`
-/// and `fmu_runtime_effects_html`/`_text`.
+/// `fmu_runtime_documentation` (FMI 2.0), `fmu_runtime_standards` with each standard's
+/// `fmu_runtime_model_description_of(n)` and `fmu_runtime_documentation_of(n)`,
+/// `fmu_runtime_model_problems` and `fmu_runtime_effects_html`/`_text`.
 ///
 /// Use it once, at the root of a `cdylib` crate: `fmu_runtime::export_fmu!(RlcCircuit);`
 #[macro_export]
@@ -56,21 +57,28 @@ macro_rules! export_fmu {
             pub extern "C" fn fmu_runtime_model_identifier() -> *const c_char {
                 guarded_text(|e| e.model_identifier.as_ptr())
             }
+            /// The first standard's (FMI 2.0's) modelDescription.xml and documentation page.
             #[no_mangle]
             pub extern "C" fn fmu_runtime_model_description() -> *const c_char {
-                guarded_text(|e| e.fmi2.model_description.as_ptr())
+                guarded_text(|e| e.standards[0].model_description.as_ptr())
             }
             #[no_mangle]
             pub extern "C" fn fmu_runtime_documentation() -> *const c_char {
-                guarded_text(|e| e.fmi2.documentation.as_ptr())
+                guarded_text(|e| e.standards[0].documentation.as_ptr())
+            }
+            /// The exported standards, one line each: version, output folder, binaries folder
+            /// (tab-separated); the n-th line's description and page are `..._of(n)`.
+            #[no_mangle]
+            pub extern "C" fn fmu_runtime_standards() -> *const c_char {
+                guarded_text(|e| e.listing.as_ptr())
             }
             #[no_mangle]
-            pub extern "C" fn fmu_runtime_model_description_fmi3() -> *const c_char {
-                guarded_text(|e| e.fmi3.model_description.as_ptr())
+            pub extern "C" fn fmu_runtime_model_description_of(n: usize) -> *const c_char {
+                std::panic::catch_unwind(|| exported().standards.get(n).map_or(std::ptr::null(), |s| s.model_description.as_ptr())).unwrap_or(std::ptr::null())
             }
             #[no_mangle]
-            pub extern "C" fn fmu_runtime_documentation_fmi3() -> *const c_char {
-                guarded_text(|e| e.fmi3.documentation.as_ptr())
+            pub extern "C" fn fmu_runtime_documentation_of(n: usize) -> *const c_char {
+                std::panic::catch_unwind(|| exported().standards.get(n).map_or(std::ptr::null(), |s| s.documentation.as_ptr())).unwrap_or(std::ptr::null())
             }
             /// The model's problems (one per line: "file:line: rule. Fix: ..."), or NULL if none.
             #[no_mangle]

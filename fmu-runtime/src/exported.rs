@@ -6,9 +6,10 @@ use std::ffi::CString;
 use std::ptr;
 use std::sync::atomic::{AtomicPtr, Ordering};
 
-use crate::description::{Document, ModelDescription, Package};
+use crate::description::{ModelDescription, Package};
 use crate::log::to_c_string;
 use crate::model::Model;
+use crate::standards::{Standard, ALL};
 
 /// What a model's library says about itself, computed once per library load: the generated
 /// modelDescription.xml, its guid (a hash of its content), and the documentation page.
@@ -17,12 +18,16 @@ pub struct Exported {
     /// The model's problems, one per line ("file:line: rule. Fix: ..."), if it has any: such
     /// a model cannot be instantiated, and build-fmus refuses to package it.
     pub problems: Option<CString>,
-    pub fmi2: ForStandard,
-    pub fmi3: ForStandard,
+    /// Each exported standard's description (`standards::ALL` order).
+    pub standards: Vec<ForStandard>,
+    /// `fmu_runtime_standards`: one line per standard that names a platform (version, output
+    /// folder, binaries folder), for build-fmus.
+    pub listing: CString,
 }
 
 /// One standard's description of the model, as the library hands it out.
 pub struct ForStandard {
+    pub standard: Standard,
     /// FMI 2.0 `guid`, FMI 3.0 `instantiationToken`: what instantiation checks.
     pub token: String,
     pub model_description: CString,
@@ -30,8 +35,10 @@ pub struct ForStandard {
 }
 
 impl ForStandard {
-    fn of<M: Model>(description: &ModelDescription, document: &Document, words: &crate::documentation::Standard) -> ForStandard {
+    fn of<M: Model>(description: &ModelDescription, standard: Standard) -> ForStandard {
+        let (document, words) = (description.document(standard), standard.words());
         ForStandard {
+            standard,
             token: document.token.clone(),
             model_description: to_c_string(&document.xml),
             documentation: to_c_string(&crate::documentation::html::<M>(description, document, words)),
@@ -40,6 +47,11 @@ impl ForStandard {
 }
 
 impl Exported {
+    /// One standard's description.
+    pub fn of_standard(&self, standard: Standard) -> &ForStandard {
+        self.standards.iter().find(|s| s.standard == standard).expect("every standard of standards::ALL")
+    }
+
     /// A model's description without package information (the runtime's own tests).
     pub fn of<M: Model>() -> Exported {
         Self::with_package::<M>(&Package::default())
@@ -51,8 +63,8 @@ impl Exported {
         Exported {
             model_identifier: to_c_string(M::info().name),
             problems: (!d.problems.is_empty()).then(|| to_c_string(&d.problems.join("\n"))),
-            fmi2: ForStandard::of::<M>(&d, &d.fmi2, &crate::fmi2::DOCUMENTATION),
-            fmi3: ForStandard::of::<M>(&d, &d.fmi3, &crate::fmi3::DOCUMENTATION),
+            standards: ALL.iter().map(|s| ForStandard::of::<M>(&d, *s)).collect(),
+            listing: to_c_string(&ALL.iter().filter_map(|s| s.listing()).collect::<Vec<_>>().join("\n")),
         }
     }
 }

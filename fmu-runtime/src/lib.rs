@@ -36,9 +36,9 @@
 //!
 //! // In a cdylib crate this one line makes the FMU: fmu_runtime::export_fmu!(Decay);
 //! let description = fmu_runtime::description::ModelDescription::of::<Decay>();
-//! assert!(description.fmi2.xml.contains(r#"<ScalarVariable name="rate" valueReference="0""#));
+//! assert!(description.document(fmu_runtime::standards::Standard::Fmi2).xml.contains(r#"<ScalarVariable name="rate" valueReference="0""#));
 //! // y depends on the state x (index 2), der(x) on x; at initialization also on rate (index 1).
-//! assert!(description.fmi2.xml.contains(r#"<Unknown index="4" dependencies="2"/>"#));
+//! assert!(description.document(fmu_runtime::standards::Standard::Fmi2).xml.contains(r#"<Unknown index="4" dependencies="2"/>"#));
 //! ```
 pub mod activity_report;
 pub mod boundary;
@@ -55,6 +55,7 @@ pub mod rk;
 pub mod log;
 pub mod model;
 pub mod phase;
+pub mod standards;
 pub mod state;
 pub mod status;
 pub mod testing;

@@ -66,11 +66,11 @@ pub unsafe fn instantiate<M: Model>(
         other => return fail(format!("fmuType {other} is neither fmi2ModelExchange (0) nor fmi2CoSimulation (1)")),
     };
     match c_str(guid) {
-        Some(g) if g == exported.fmi2.token => {}
-        Some(g) => return fail(format!("guid {g} does not match this FMU's guid {}: modelDescription.xml and binary differ", exported.fmi2.token)),
+        Some(g) if g == exported.of_standard(crate::standards::Standard::Fmi2).token => {}
+        Some(g) => return fail(format!("guid {g} does not match this FMU's guid {}: modelDescription.xml and binary differ", exported.of_standard(crate::standards::Standard::Fmi2).token)),
         None => return fail("guid is null or not UTF-8".into()),
     }
-    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::for_interface(interface, &exported.fmi2.token, logger))) {
+    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::for_interface(interface, &exported.of_standard(crate::standards::Standard::Fmi2).token, logger))) {
         Ok(instance) => Component::into_raw(instance),
         Err(payload) => {
             // The logger moved into the closure; build a fresh one to report.
@@ -476,7 +476,7 @@ mod tests {
             stepFinished: None,
             componentEnvironment: std::ptr::null_mut(),
         };
-        let guid = std::ffi::CString::new(exported.fmi2.token.clone()).unwrap();
+        let guid = std::ffi::CString::new(exported.of_standard(crate::standards::Standard::Fmi2).token.clone()).unwrap();
         unsafe {
             let c = instantiate::<Panicky>(exported, c"p".as_ptr(), fmi2CoSimulation, guid.as_ptr(), std::ptr::null(), &callbacks, 0, 0);
             assert!(!c.is_null());

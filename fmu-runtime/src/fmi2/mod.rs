@@ -10,7 +10,7 @@ pub mod types;
 pub mod xml;
 
 /// The documentation page's words for FMI 2.0.
-pub const DOCUMENTATION: crate::documentation::Standard = crate::documentation::Standard {
+pub const DOCUMENTATION: crate::documentation::Words = crate::documentation::Words {
     version: "2.0",
     token_name: "guid",
     error: "fmi2Error",

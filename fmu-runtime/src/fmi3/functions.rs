@@ -80,16 +80,16 @@ pub unsafe fn instantiate<M: Model>(
         return fail(format!("the model is not valid: {}", problems.to_string_lossy()));
     }
     match c_str(token) {
-        Some(t) if t == exported.fmi3.token => {}
+        Some(t) if t == exported.of_standard(crate::standards::Standard::Fmi3).token => {}
         Some(t) => {
             return fail(format!(
                 "instantiationToken {t} does not match this FMU's {}: modelDescription.xml and binary differ",
-                exported.fmi3.token
+                exported.of_standard(crate::standards::Standard::Fmi3).token
             ))
         }
         None => return fail("instantiationToken is null or not UTF-8".into()),
     }
-    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::for_interface(interface, &exported.fmi3.token, logger))) {
+    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::for_interface(interface, &exported.of_standard(crate::standards::Standard::Fmi3).token, logger))) {
         Ok(instance) => Component::into_raw(instance),
         Err(payload) => {
             let logger = Logger::new(Fmi3Logger::sink(log_message, environment), true);
@@ -612,7 +612,7 @@ mod tests {
         unsafe {
             assert!(co_simulation::<Panicky>(e, "{not-this-one}").is_null());
             assert!(LOG.lock().unwrap().iter().any(|(s, m)| *s == fmi3Error && m.contains("instantiationToken {not-this-one} does not match")));
-            let c = co_simulation::<Panicky>(e, &e.fmi3.token);
+            let c = co_simulation::<Panicky>(e, &e.of_standard(crate::standards::Standard::Fmi3).token);
             assert!(!c.is_null());
             assert_eq!(enter_initialization_mode::<Panicky>(c, 0, 0.0, 0.0, 0, 0.0), fmi3OK);
             assert_eq!(exit_initialization_mode::<Panicky>(c), fmi3OK);
@@ -630,7 +630,7 @@ mod tests {
         use crate::test_model::Chooser;
         let e = exported::<Chooser>();
         unsafe {
-            let token = CString::new(e.fmi3.token.clone()).unwrap();
+            let token = CString::new(e.of_standard(crate::standards::Standard::Fmi3).token.clone()).unwrap();
             let c = instantiate::<Chooser>(e, Interface::CoSimulation, c"i".as_ptr(), token.as_ptr(), std::ptr::null_mut(), false, Some(record));
             let vr = [0u32];
             assert_eq!(set_int64::<Chooser>(c, vr.as_ptr(), 1, [1i64].as_ptr(), 1), fmi3OK);
@@ -653,7 +653,7 @@ mod tests {
     fn steps_read_time_and_give_adjoints_from_the_same_jacobian() {
         let e = exported::<Decay>();
         unsafe {
-            let c = co_simulation::<Decay>(e, &e.fmi3.token);
+            let c = co_simulation::<Decay>(e, &e.of_standard(crate::standards::Standard::Fmi3).token);
             // Before initialization nothing can be read; the table says where it can.
             let mut v = [0.0];
             assert_eq!(get_float64::<Decay>(c, [2u32].as_ptr(), 1, v.as_mut_ptr(), 1), fmi3Error);

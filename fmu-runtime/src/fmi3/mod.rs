@@ -10,7 +10,7 @@ pub mod types;
 pub mod xml;
 
 /// The documentation page's words for FMI 3.0.
-pub const DOCUMENTATION: crate::documentation::Standard = crate::documentation::Standard {
+pub const DOCUMENTATION: crate::documentation::Words = crate::documentation::Words {
     version: "3.0",
     token_name: "instantiationToken",
     error: "fmi3Error",
