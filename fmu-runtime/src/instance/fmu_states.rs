@@ -1,0 +1,91 @@
+//! FMU states: snapshots of values, kept behind handles, serialized and restored bit-identically.
+
+use super::*;
+
+impl<M: Model> Instance<M> {
+    pub(super) fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            phase: self.phase,
+            time: self.time,
+            experiment: self.experiment,
+            values: self.values.clone(),
+            states: self.states.clone(),
+            step_size: self.integrator.as_ref().and_then(|i| i.step_size),
+            lookahead: self.integrator.as_ref().and_then(|i| i.lookahead()),
+            input_slopes: self.input_slopes.clone(),
+            input_curvatures: self.input_curvatures.clone(),
+            previous_inputs: self.previous_inputs.clone(),
+        }
+    }
+
+    pub(super) fn restore(&mut self, s: Snapshot) -> CallResult {
+        let initialized = !s.phase.is_before_initialization_end();
+        self.phase = s.phase;
+        self.time = s.time;
+        self.experiment = s.experiment;
+        self.values = s.values;
+        self.states = s.states;
+        self.input_slopes = s.input_slopes;
+        self.input_curvatures = s.input_curvatures;
+        self.previous_inputs = s.previous_inputs;
+        self.stale = true;
+        self.knowns_set = true;
+        self.integrator = None;
+        if initialized && self.interface == Interface::CoSimulation {
+            let mut integrator = self.make_integrator().map_err(Failure::error)?;
+            integrator.step_size = s.step_size;
+            if let Some(lookahead) = &s.lookahead {
+                integrator.resume_lookahead(lookahead, self.time, &self.states);
+            }
+            self.integrator = Some(integrator);
+        }
+        Ok(())
+    }
+
+    /// fmi2GetFMUstate: a new handle (`existing` = None) or overwrite a live one.
+    pub fn get_fmu_state(&mut self, existing: Option<usize>) -> CallResult<usize> {
+        let s = self.snapshot();
+        match existing {
+            None => self.snapshots.insert(s).map_err(Failure::error),
+            Some(h) if self.snapshots.replace(h, s) => Ok(h),
+            Some(h) => Err(Failure::error(format!("FMU state {h:#x} is not a live state of this instance (freed or never made here)"))),
+        }
+    }
+
+    pub fn set_fmu_state(&mut self, handle: usize) -> CallResult {
+        let s = self
+            .snapshots
+            .get(handle)
+            .cloned()
+            .ok_or_else(|| Failure::error(format!("FMU state {handle:#x} is not a live state of this instance (freed or never made here)")))?;
+        self.restore(s)?;
+        self.debug(&format!("restored the FMU state of t = {} s", self.time));
+        Ok(())
+    }
+
+    pub fn free_fmu_state(&mut self, handle: usize) -> CallResult {
+        if self.snapshots.remove(handle) {
+            Ok(())
+        } else {
+            Err(Failure::error(format!("FMU state {handle:#x} was already freed or was never made by this instance")))
+        }
+    }
+
+    pub fn serialize_fmu_state(&self, handle: usize) -> CallResult<Vec<u8>> {
+        self.snapshots
+            .get(handle)
+            .map(|s| s.serialize(self.guid))
+            .ok_or_else(|| Failure::error(format!("FMU state {handle:#x} is not a live state of this instance")))
+    }
+
+    pub fn deserialize_fmu_state(&mut self, bytes: &[u8], existing: Option<usize>) -> CallResult<usize> {
+        let t = &self.table;
+        let shape = Shape { known: t.n_known, calculated: t.n_calculated, states: t.n_states, integers: t.n_integers, booleans: t.n_booleans };
+        let s = Snapshot::deserialize(bytes, self.guid, &shape).map_err(Failure::error)?;
+        match existing {
+            None => self.snapshots.insert(s).map_err(Failure::error),
+            Some(h) if self.snapshots.replace(h, s) => Ok(h),
+            Some(h) => Err(Failure::error(format!("FMU state {h:#x} is not a live state of this instance"))),
+        }
+    }
+}

@@ -1,0 +1,137 @@
+//! The instance's life: experiment set-up, initialization (every parameter checked), termination,
+//! reset, debug logging.
+
+use super::*;
+
+impl<M: Model> Instance<M> {
+    pub fn setup_experiment(&mut self, tolerance: Option<f64>, start_time: f64, stop_time: Option<f64>) -> CallResult {
+        if let Some(tol) = tolerance {
+            if !(tol.is_finite() && tol > 0.0 && tol < 1.0) {
+                return Err(Failure::error(format!("tolerance {tol} must be a number in (0, 1)")));
+            }
+        }
+        if !start_time.is_finite() {
+            return Err(Failure::error(format!("start time {start_time} is not finite")));
+        }
+        if let Some(stop) = stop_time {
+            if !(stop.is_finite() && stop >= start_time) {
+                return Err(Failure::error(format!("stop time {stop} must be finite and not before the start time {start_time}")));
+            }
+        }
+        self.experiment = Experiment { tolerance, start_time, stop_time };
+        self.time = start_time;
+        self.stale = true;
+        let stop = stop_time.map_or("no stop time".to_string(), |s| format!("stop {s} s"));
+        let asked = tolerance.map_or(format!("no tolerance given (the default {})", declared_tolerance(M::tolerance_floor())), |t| format!("tolerance {t}"));
+        self.debug(&format!("experiment: start {start_time} s, {stop}, {asked}"));
+        if let (Interface::CoSimulation, Some(asked), Some(floor)) = (self.interface, tolerance, M::tolerance_floor()) {
+            if asked > floor {
+                self.logger.log(
+                    Status::Warning,
+                    &format!(
+                        "tolerance {asked} set by the master is looser than this FMU's floor {floor}: its solver integrates at {floor} \
+                         (at looser tolerances its errors grow far beyond the tolerance; see the FMU's documentation)"
+                    ),
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// The relative tolerance the Co-Simulation solver integrates at: the master's (else the
+    /// declared default), tightened to the model's floor.
+    pub(super) fn solver_tolerance(&self) -> f64 {
+        let floor = M::tolerance_floor();
+        let asked = self.experiment.tolerance.unwrap_or(declared_tolerance(floor));
+        floor.map_or(asked, |floor| asked.min(floor))
+    }
+
+    pub fn enter_initialization_mode(&mut self) -> CallResult {
+        self.phase = Phase::Initialization;
+        self.time = self.experiment.start_time;
+        self.stale = true;
+        self.debug("entered initialization mode");
+        Ok(())
+    }
+
+    /// Checks every parameter against its physical range and the model's own relations, then that
+    /// every value at the start is finite; a violation moves the instance to the Error mode with a
+    /// message naming the parameter.
+    pub fn exit_initialization_mode(&mut self) -> CallResult {
+        if let Err(message) = self.check_parameters() {
+            self.phase = Phase::Error;
+            return Err(Failure::error(format!("initialization failed: {message}")));
+        }
+        if let Err(message) = self.load_state_starts() {
+            self.phase = Phase::Error;
+            return Err(Failure::error(format!("initialization failed: {message}")));
+        }
+        self.settle_initial_modes()?;
+        if let Err(message) = crate::model::check_finite_start(&*self.model, &self.table, self.time, &self.values, &self.states) {
+            self.phase = Phase::Error;
+            return Err(Failure::error(format!("initialization failed: {message}")));
+        }
+        if self.interface == Interface::ModelExchange {
+            self.phase = Phase::Event;
+            self.stale = true;
+            self.debug("initialization done, event mode");
+            return Ok(());
+        }
+        match self.make_integrator() {
+            Ok(integrator) => self.integrator = Some(integrator),
+            Err(message) => {
+                self.phase = Phase::Error;
+                return Err(Failure::error(message));
+            }
+        }
+        self.phase = Phase::Stepping;
+        self.stale = true;
+        self.debug("initialization done");
+        Ok(())
+    }
+
+    pub(super) fn check_parameters(&self) -> Result<(), String> {
+        for var in &self.table.variables {
+            match var.slot {
+                Slot::Known(i) => var.check_range(self.values.known[i])?,
+                Slot::Integer(i) => var.check_range(self.values.integers[i] as f64)?,
+                _ => {}
+            }
+        }
+        let v = &self.values;
+        let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
+        self.model.check(&k)
+    }
+
+    pub fn terminate(&mut self) -> CallResult {
+        self.phase = Phase::Terminated;
+        self.debug("terminated");
+        Ok(())
+    }
+
+    /// fmi2Reset: back to the state right after fmi2Instantiate (saved FMU states stay valid).
+    pub fn reset(&mut self) -> CallResult {
+        self.values = self.table.start_values();
+        self.experiment = Experiment::default();
+        self.time = 0.0;
+        self.integrator = None;
+        self.previous_inputs = None;
+        self.input_slopes.fill(0.0);
+        self.input_curvatures.fill(0.0);
+        self.phase = Phase::Instantiated;
+        let _ = self.load_state_starts();
+        self.stale = true;
+        self.knowns_set = true;
+        self.debug("reset");
+        Ok(())
+    }
+
+    pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> CallResult {
+        self.logger.set_debug_logging(on, categories).map_err(Failure::error)
+    }
+
+    /// fmi2GetRealStatus(fmi2LastSuccessfulTime).
+    pub fn last_successful_time(&self) -> f64 {
+        self.time
+    }
+}

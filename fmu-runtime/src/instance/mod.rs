@@ -1,0 +1,340 @@
+//! One FMU instance, in neither standard's words: its phase, its values, its solver, its saved
+//! states, and every check a call must pass. The adapters (`fmi2`, `fmi3`) have already checked
+//! pointers and that the call is legal in the current phase; everything here is safe Rust.
+//!
+//! This file holds the instance's data and what every job shares (lazy recomputation, value
+//! lookup); each job is a file of its own: `access` (get/set), `lifecycle` (set-up,
+//! initialization, termination, reset), `stepping` (Co-Simulation's communication step and its
+//! events), `modes` (the discrete modes at an event), `io_derivatives` (input and output
+//! derivatives), `model_exchange`, `partial_derivatives` (directional derivatives) and
+//! `fmu_states` (snapshots, serialization).
+//!
+//! Errors from misuse (a wrong value reference, a NaN, a parameter set after initialization)
+//! refuse the call and leave the instance as it was, so a master can go on. Errors of the model
+//! itself (a parameter out of its physical range at initialization) move the instance to the
+//! Error phase; a step the solver cannot complete returns Status::Discard and leaves the instance
+//! at the last communication point.
+
+use std::sync::Arc;
+
+use crate::integrate::{declared_tolerance, negligible_interval, Advanced, InputMotion, Integrator};
+use crate::log::Logger;
+use crate::model::{evaluate, Model, ModelInfo, RuntimeVariables};
+use crate::phase::Phase;
+pub use crate::status::{CallResult, Failure};
+use crate::status::Status;
+use crate::state::{Experiment, Shape, Snapshot, SnapshotStore};
+use crate::values::{EventIndicators, Knowns, ModeUpdate, Values};
+use crate::variables::{BaseType, Slot, Variable, VariableTable};
+
+/// Time events one communication step may hold before the step is refused (a model announcing
+/// events that do not advance would otherwise loop forever).
+pub const MAX_EVENTS_PER_STEP: usize = 10_000;
+
+/// Passes of `Model::update_modes` at one event before the modes are declared unsettled (a
+/// model whose update rules contradict each other would otherwise loop forever).
+pub const MAX_MODE_ITERATIONS: usize = 50;
+
+/// State events at one instant (within rounding) before a step is refused as chattering.
+pub const MAX_EVENTS_AT_ONE_INSTANT: usize = 100;
+
+/// The rounding error of one evaluation of a model's unknown, in ulps of its value, that a
+/// directional derivative's central difference allows for (a few dozen operations each
+/// rounding by half an ulp, some of them cancelling).
+const ROUNDING_ULPS: f64 = 16.0;
+
+/// A value a master can get or set, typed as FMI types it.
+pub trait FmiValue: Copy {
+    const TYPE: BaseType;
+    fn read(values: &Values, slot: Slot) -> Self;
+    fn write(values: &mut Values, slot: Slot, v: Self);
+    fn check(var: &Variable, v: Self) -> Result<(), String>;
+}
+
+impl FmiValue for f64 {
+    const TYPE: BaseType = BaseType::Real;
+    fn read(values: &Values, slot: Slot) -> f64 {
+        match slot {
+            Slot::Known(i) => values.known[i],
+            Slot::Calculated(i) => values.calculated[i],
+            Slot::Derivative(i) => values.derivatives[i],
+            _ => unreachable!("checked by type"),
+        }
+    }
+    fn write(values: &mut Values, slot: Slot, v: f64) {
+        if let Slot::Known(i) = slot {
+            values.known[i] = v;
+        }
+    }
+    fn check(var: &Variable, v: f64) -> Result<(), String> {
+        var.check_range(v)
+    }
+}
+
+impl FmiValue for i32 {
+    const TYPE: BaseType = BaseType::Integer;
+    fn read(values: &Values, slot: Slot) -> i32 {
+        match slot {
+            Slot::Integer(i) => values.integers[i],
+            _ => unreachable!("checked by type"),
+        }
+    }
+    fn write(values: &mut Values, slot: Slot, v: i32) {
+        if let Slot::Integer(i) = slot {
+            values.integers[i] = v;
+        }
+    }
+    fn check(var: &Variable, v: i32) -> Result<(), String> {
+        var.check_range(v as f64)
+    }
+}
+
+impl FmiValue for bool {
+    const TYPE: BaseType = BaseType::Boolean;
+    fn read(values: &Values, slot: Slot) -> bool {
+        match slot {
+            Slot::Boolean(i) => values.booleans[i],
+            _ => unreachable!("checked by type"),
+        }
+    }
+    fn write(values: &mut Values, slot: Slot, v: bool) {
+        if let Slot::Boolean(i) = slot {
+            values.booleans[i] = v;
+        }
+    }
+    fn check(_: &Variable, _: bool) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// The interface an instance was made for (fmi2Instantiate's fmuType).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Interface {
+    CoSimulation,
+    ModelExchange,
+}
+
+/// What fmi2NewDiscreteStates reports (fmi2EventInfo).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EventInfo {
+    pub new_discrete_states_needed: bool,
+    pub terminate_simulation: bool,
+    pub nominals_changed: bool,
+    /// valuesOfContinuousStatesChanged: a mode update changed a mode or re-initialized a state
+    /// (the master must restart its integrator).
+    pub values_changed: bool,
+    pub next_event_time: Option<f64>,
+}
+
+/// Which lazily computed values are up to date (see `Instance::refresh_only`).
+#[derive(Clone, Copy, Default)]
+struct Fresh {
+    calculated: bool,
+    derivatives: bool,
+}
+
+pub struct Instance<M: Model> {
+    pub interface: Interface,
+    runtime: RuntimeVariables,
+    /// The known reals at the previous communication point and its time, for input
+    /// extrapolation.
+    previous_inputs: Option<(f64, Vec<f64>)>,
+    model: Arc<M>,
+    table: Arc<VariableTable>,
+    info: ModelInfo,
+    guid: &'static str,
+    pub logger: Logger,
+    pub phase: Phase,
+    experiment: Experiment,
+    values: Values,
+    /// The continuous states at `time` (after initialization; before it, the start values).
+    states: Vec<f64>,
+    time: f64,
+    /// Outputs and derivatives are recomputed lazily, when read after a change: `stale` says
+    /// that something changed, `fresh` which of the two (calculated values, derivatives) have
+    /// been recomputed since (a master reading outputs after each step never pays for the
+    /// derivatives).
+    stale: bool,
+    fresh: Fresh,
+    /// A known may have changed since the solver last advanced (set by the master, moved along
+    /// its derivatives, restored): the solver's parameter vector is rebuilt and compared.
+    knowns_set: bool,
+    /// The model has inputs (else no input bookkeeping runs in a step), and discrete modes
+    /// (else no mode update runs at communication points).
+    has_inputs: bool,
+    has_modes: bool,
+    /// Boxed: `do_step` takes it out and puts it back, which moves only the pointer.
+    integrator: Option<Box<Integrator>>,
+    snapshots: SnapshotStore,
+    /// First and second time derivatives of the inputs for the next step (by known index;
+    /// fmi2SetRealInputDerivatives), cleared after each step and when the input is set.
+    input_slopes: Vec<f64>,
+    input_curvatures: Vec<f64>,
+    /// Buffers reused by every doStep, so that steady stepping allocates nothing.
+    buffers: Buffers,
+}
+
+/// Work vectors of `do_step` and `settle_modes`, kept between calls (their contents carry
+/// nothing from one call to the next).
+#[derive(Default)]
+struct Buffers {
+    /// The states being advanced over a step.
+    x: Vec<f64>,
+    /// The input slopes of a step.
+    slopes: Vec<f64>,
+    /// The modes at the start of a step (restored when it fails).
+    modes: Vec<i32>,
+    /// A mode update's trial modes and states.
+    trial_modes: Vec<i32>,
+    trial_states: Vec<f64>,
+    /// The derivatives and element powers of the energy balance, at each output refresh.
+    balance: Vec<f64>,
+}
+
+impl<M: Model> Instance<M> {
+    pub fn new(guid: &'static str, logger: Logger) -> Self {
+        Self::for_interface(Interface::CoSimulation, guid, logger)
+    }
+
+    pub fn for_interface(interface: Interface, guid: &'static str, logger: Logger) -> Self {
+        let (model, runtime, table) = crate::model::declare::<M>();
+        let (model, table) = (Arc::new(model), Arc::new(table));
+        let values = table.start_values();
+        let n_states = table.n_states;
+        let mut inst = Instance {
+            interface,
+            runtime,
+            previous_inputs: None,
+            model,
+            table,
+            info: M::info(),
+            guid,
+            logger,
+            phase: Phase::Instantiated,
+            experiment: Experiment::default(),
+            values,
+            states: vec![0.0; n_states],
+            time: 0.0,
+            stale: true,
+            fresh: Fresh::default(),
+            knowns_set: true,
+            has_inputs: false,
+            has_modes: false,
+            integrator: None,
+            snapshots: SnapshotStore::default(),
+            input_slopes: Vec::new(),
+            input_curvatures: Vec::new(),
+            buffers: Buffers::default(),
+        };
+        inst.input_slopes = vec![0.0; inst.table.n_known];
+        inst.input_curvatures = vec![0.0; inst.table.n_known];
+        inst.buffers.slopes = vec![0.0; inst.table.n_known];
+        inst.buffers.balance = vec![0.0; inst.table.n_states + inst.table.elements.len()];
+        inst.has_inputs = inst.table.variables.iter().any(|v| v.causality == crate::variables::Causality::Input);
+        inst.has_modes = inst.table.variables.iter().any(|v| v.is_mode());
+        // A model whose initial states fail at the defaults says so at initialization.
+        let _ = inst.load_state_starts();
+        inst
+    }
+
+    pub fn table(&self) -> &VariableTable {
+        &self.table
+    }
+
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Sends a debug message (only with debug logging on).
+    pub fn debug(&self, message: &str) {
+        self.logger.log(Status::Ok, message);
+    }
+
+    /// The states at initialization: the start values, and the model's own initial values of
+    /// its calculated states (also written back, so fmi2GetReal reads them).
+    fn load_state_starts(&mut self) -> Result<(), String> {
+        for (x, k) in self.states.iter_mut().zip(&self.table.state_known_index) {
+            *x = self.values.known[*k];
+        }
+        let v = &self.values;
+        let result = crate::model::initialize_states(&*self.model, &self.table, self.time, &v.known, &v.integers, &v.booleans, &mut self.states);
+        self.store_states();
+        result
+    }
+
+    fn store_states(&mut self) {
+        for (x, k) in self.states.iter().zip(&self.table.state_known_index) {
+            self.values.known[*k] = *x;
+        }
+    }
+
+    /// Recomputes outputs, locals and derivatives from the knowns if anything changed.
+    fn refresh(&mut self) {
+        self.refresh_only(Fresh { calculated: true, derivatives: true });
+    }
+
+    /// Recomputes what `need` asks for (calculated values, derivatives) if anything changed
+    /// since it was last computed.
+    fn refresh_only(&mut self, need: Fresh) {
+        if self.stale {
+            if self.phase.is_before_initialization_end() {
+                // A failure leaves NaN in the calculated states; exiting initialization reports it.
+                let _ = self.load_state_starts();
+            }
+            self.fresh = Fresh::default();
+            self.stale = false;
+        }
+        let v = &mut self.values;
+        if need.calculated && !self.fresh.calculated {
+            crate::model::evaluate_outputs(&*self.model, &self.table, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.calculated, &mut self.buffers.balance);
+            self.fresh.calculated = true;
+        }
+        if need.derivatives && !self.fresh.derivatives {
+            crate::model::evaluate_derivatives(&*self.model, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.derivatives);
+            self.fresh.derivatives = true;
+        }
+    }
+
+    fn variable(&self, vr: u32, expected: BaseType) -> CallResult<&Variable> {
+        let var = self.table.get(vr).ok_or_else(|| {
+            Failure::error(format!("unknown value reference {vr} (this FMU has 0..{})", self.table.variables.len()))
+        })?;
+        if var.base_type() != expected {
+            return Err(Failure::error(format!(
+                "value reference {vr} is the {:?} variable '{}', not {}",
+                var.base_type(),
+                var.name,
+                expected.with_article()
+            )));
+        }
+        Ok(var)
+    }
+
+    /// Sends the message of a failed call to the master's logger.
+    pub fn report(&self, failure: &Failure) {
+        let status = if failure.status == Status::Ok { Status::Warning } else { failure.status };
+        self.logger.log(status, &failure.message);
+    }
+}
+
+mod access;
+mod fmu_states;
+mod io_derivatives;
+mod lifecycle;
+mod model_exchange;
+mod modes;
+mod partial_derivatives;
+mod stepping;
+
+#[cfg(test)]
+mod tests;
+
+#[cfg(test)]
+mod send {
+    /// A master may call an instance from any thread (never concurrently): it must be Send.
+    #[test]
+    fn instances_can_move_between_threads() {
+        fn assert_send<T: Send>() {}
+        assert_send::<super::Instance<crate::test_model::Decay>>();
+    }
+}

@@ -1,0 +1,229 @@
+//! Co-Simulation: one communication step, stopping at every time event and state event inside
+//! it, with the inputs held, moved along their derivatives, or extrapolated.
+
+use super::*;
+
+impl<M: Model> Instance<M> {
+    pub(super) fn make_integrator(&self) -> Result<Box<Integrator>, String> {
+        Integrator::new(
+            self.model.clone(),
+            &self.values.known,
+            &self.values.integers,
+            &self.values.booleans,
+            self.table.n_states,
+            self.table.indicators.len(),
+            self.info.solver,
+            self.solver_tolerance(),
+            &self.table.state_nominals(),
+            &self.table.state_known_index,
+            &self.table.activity_states(),
+        )
+        .map(Box::new)
+    }
+
+    /// fmi2DoStep: integrate from the communication point to the next one.
+    pub fn do_step(&mut self, t: f64, h: f64) -> CallResult {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(Failure::error(format!("communication step size {h} must be a finite number > 0")));
+        }
+        if !t.is_finite() {
+            return Err(Failure::error(format!("communication point {t} is not finite")));
+        }
+        let tolerance = 64.0 * f64::EPSILON * self.time.abs().max(t.abs()) + 1e-6 * h;
+        if let Some(stop) = self.experiment.stop_time {
+            // FMI 2.0 and 3.0: computing past a defined stop time is an error.
+            if t + h > stop + tolerance {
+                return Err(Failure::error(format!(
+                    "the step to {} s would pass the experiment's stop time {stop} s",
+                    t + h
+                )));
+            }
+        }
+        if (t - self.time).abs() > tolerance {
+            return Err(Failure::error(format!(
+                "communication point {t} s does not match this instance's time {} s (restore a saved FMU state to go back)",
+                self.time
+            )));
+        }
+        let t_end = t + h;
+        let mut x = std::mem::take(&mut self.buffers.x);
+        x.clone_from(&self.states);
+        let mut slopes = std::mem::take(&mut self.buffers.slopes);
+        if self.has_inputs {
+            self.extrapolated_slopes(t, &mut slopes);
+        }
+        let result = self.integrate(t, &mut x, t_end, &slopes);
+        if let Err(message) = result {
+            (self.buffers.x, self.buffers.slopes) = (x, slopes);
+            self.phase = Phase::StepFailed;
+            return Err(Failure {
+                status: Status::Discard,
+                message: format!("step from {t} s to {t_end} s discarded, the instance stays at {t} s: {message}"),
+            });
+        }
+        if self.has_inputs {
+            match &mut self.previous_inputs {
+                Some((t_prev, previous)) => {
+                    *t_prev = t;
+                    previous.clone_from(&self.values.known);
+                }
+                None => self.previous_inputs = Some((t, self.values.known.clone())),
+            }
+            // At the end of the step the inputs are where their motion took them, so outputs
+            // that depend on inputs directly (a shaft's torque) are those of t_end, not of t.
+            for (i, (slope, curvature)) in slopes.iter().zip(&self.input_curvatures).enumerate() {
+                // Only moving inputs are written: `+= 0.0` would turn an input's -0.0 into +0.0.
+                if *slope != 0.0 || *curvature != 0.0 {
+                    self.values.known[i] += slope * h + 0.5 * curvature * h * h;
+                    self.knowns_set = true;
+                }
+            }
+            // Input derivatives describe one step; the master sets new values (and derivatives)
+            // at the next communication point.
+            self.input_slopes.fill(0.0);
+            self.input_curvatures.fill(0.0);
+        }
+        std::mem::swap(&mut self.states, &mut x);
+        (self.buffers.x, self.buffers.slopes) = (x, slopes);
+        self.time = t_end;
+        self.store_states();
+        self.stale = true;
+        Ok(())
+    }
+
+    /// The input slopes for a step from `t`: the master's input derivatives where it gave them;
+    /// with `extrapolate_inputs` on, the line through the previous and the current communication
+    /// point for the other inputs.
+    pub(super) fn extrapolated_slopes(&self, t: f64, slopes: &mut Vec<f64>) {
+        slopes.clone_from(&self.input_slopes);
+        let on = self.runtime.extrapolate_inputs.is_some_and(|b| self.values.booleans[b.index()]);
+        if let (true, Some((t_prev, previous))) = (on, &self.previous_inputs) {
+            if t > *t_prev {
+                for var in self.table.variables.iter().filter(|v| v.causality == crate::variables::Causality::Input) {
+                    if let Slot::Known(i) = var.slot {
+                        if self.input_slopes[i] == 0.0 && self.input_curvatures[i] == 0.0 {
+                            slopes[i] = (self.values.known[i] - previous[i]) / (t - t_prev);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Integrates from `t` to `t_end`, stopping at every time event the model announces and at
+    /// every zero crossing of an event indicator, where the modes are updated and the solver
+    /// restarts. On failure the modes are those of `t` again (the step is discarded).
+    pub(super) fn integrate(&mut self, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64]) -> Result<(), String> {
+        let mut integrator = self.integrator.take().ok_or("the instance has no ODE solver (initialization did not finish)")?;
+        let step_size = integrator.step_size;
+        // Without modes, no integer changes in a step.
+        let mut modes = std::mem::take(&mut self.buffers.modes);
+        if self.has_modes {
+            modes.clone_from(&self.values.integers);
+        }
+        let curvatures = std::mem::take(&mut self.input_curvatures);
+        let mut result = self.integrate_with(&mut integrator, t, x, t_end, slopes, &curvatures);
+        self.input_curvatures = curvatures;
+        if result.is_err() && self.has_modes && self.values.integers != modes {
+            self.values.integers.copy_from_slice(&modes);
+            match self.make_integrator() {
+                Ok(made) => {
+                    integrator = made;
+                    integrator.step_size = step_size;
+                }
+                Err(message) => result = Err(message),
+            }
+        }
+        self.buffers.modes = modes;
+        self.integrator = Some(integrator);
+        result
+    }
+
+    pub(super) fn integrate_with(&mut self, integrator: &mut Integrator, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64], curvatures: &[f64]) -> Result<(), String> {
+        // Inputs or tunable parameters set at this communication point may change the modes
+        // (a force above the static friction breaks a stuck body loose) without any indicator
+        // crossing zero during integration. When nothing was set since the last step, the modes
+        // are those the last step left consistent (it stopped at every crossing up to here).
+        let known = std::mem::take(&mut self.values.known);
+        let settled = if self.has_modes && self.knowns_set { self.settle_modes(t, &known, x) } else { Ok((false, false)) };
+        self.values.known = known;
+        if settled?.0 {
+            let step_size = integrator.step_size;
+            *integrator = *self.make_integrator()?;
+            integrator.step_size = step_size;
+        }
+        let mut now = t;
+        let (mut last_event, mut at_one_instant) = (f64::NEG_INFINITY, 0usize);
+        // One budget of internal steps for the whole communication step, across its events.
+        let mut budget = crate::integrate::MAX_INTERNAL_STEPS;
+        // Without inputs nothing moves (the slopes are zero): no need to look.
+        let motion = if self.has_inputs { InputMotion::new(slopes, curvatures, t) } else { InputMotion::still(slopes) };
+        for _ in 0..MAX_EVENTS_PER_STEP {
+            let v = &self.values;
+            let k = Knowns::new(now, &v.known, x, &v.integers, &v.booleans);
+            // An event within rounding of the step's end is taken as the end (a master's
+            // float time 9.999999999999897 s for an event at 10 s).
+            let tiny = negligible_interval(t_end);
+            let event = self.model.next_time_event(&k, now).filter(|e| *e > now);
+            let next = match event {
+                Some(event) if event < t_end - tiny => event,
+                _ => t_end,
+            };
+            // How far the explicit solver may step past `next` (it interpolates back): not past
+            // the next time event, nor past a defined stop time (the model may be invalid there).
+            let limit = match event {
+                Some(event) if next == t_end => event.max(t_end),
+                Some(_) => next,
+                None => f64::INFINITY,
+            };
+            let limit = self.experiment.stop_time.map_or(limit, |stop| limit.min(stop)).max(next);
+            let knowns_set = std::mem::replace(&mut self.knowns_set, false);
+            let how = integrator.advance(&v.known, &motion, knowns_set, now, x, next, limit, &mut budget)?;
+            match how {
+                Advanced::Reached if next == t_end => return Ok(()),
+                Advanced::Reached => {
+                    self.logger.log(Status::Ok, &format!("time event at t = {next} s"));
+                    now = next;
+                }
+                Advanced::Crossing { time, indicator } => {
+                    if time - last_event <= negligible_interval(time) {
+                        at_one_instant += 1;
+                        if at_one_instant >= MAX_EVENTS_AT_ONE_INSTANT {
+                            return Err(format!(
+                                "{MAX_EVENTS_AT_ONE_INSTANT} state events at t = {time} s without time advancing \
+                                 (the modes chatter: event indicator '{}')",
+                                self.table.indicators[indicator].0
+                            ));
+                        }
+                    } else {
+                        at_one_instant = 0;
+                    }
+                    last_event = time;
+                    self.logger.log(Status::Ok, &format!("state event at t = {time} s: '{}' crossed zero", self.table.indicators[indicator].0));
+                    if let Some(counter) = self.runtime.state_events {
+                        self.values.integers[counter.0] = self.values.integers[counter.0].saturating_add(1);
+                    }
+                    now = time;
+                }
+            }
+            // The modes after the event (a time event may change them too: a voltage step can
+            // break a stuck body loose). The solver is re-made with the new modes.
+            let known = self.knowns_moved_to(now, t, slopes, curvatures);
+            let (modes_changed, _) = self.settle_modes(now, &known, x)?;
+            if modes_changed {
+                let step_size = integrator.step_size;
+                *integrator = *self.make_integrator()?;
+                integrator.step_size = step_size;
+            }
+        }
+        Err(format!("more than {MAX_EVENTS_PER_STEP} events in one communication step"))
+    }
+
+    /// The known reals at `now` with the inputs moved along their derivatives since `since`.
+    pub(super) fn knowns_moved_to(&self, now: f64, since: f64, slopes: &[f64], curvatures: &[f64]) -> Vec<f64> {
+        let tau = now - since;
+        (0..self.values.known.len())
+            .map(|i| self.values.known[i] + slopes[i] * tau + 0.5 * curvatures[i] * tau * tau)
+            .collect()
+    }
+}
