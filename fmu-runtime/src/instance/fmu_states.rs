@@ -32,8 +32,7 @@ impl<M: Model> Instance<M> {
         self.knowns_set = true;
         self.integrator = None;
         if initialized && self.interface == Interface::CoSimulation {
-            let mut integrator = self.make_integrator().map_err(Failure::error)?;
-            integrator.step_size = s.step_size;
+            let mut integrator = self.remade_integrator(s.step_size).map_err(Failure::error)?;
             if let Some(lookahead) = &s.lookahead {
                 integrator.resume_lookahead(lookahead, self.time, &self.states);
             }

@@ -21,6 +21,15 @@ impl<M: Model> Instance<M> {
         .map(Box::new)
     }
 
+    /// The solver made afresh for the current modes and values, continuing with `step_size` (the
+    /// step size the previous one had reached: after an event, a mode switch or a restored state
+    /// the solver does not start over from a cautious first step).
+    pub(super) fn remade_integrator(&self, step_size: Option<f64>) -> Result<Box<Integrator>, String> {
+        let mut integrator = self.make_integrator()?;
+        integrator.step_size = step_size;
+        Ok(integrator)
+    }
+
     /// fmi2DoStep: integrate from the communication point to the next one.
     pub fn do_step(&mut self, t: f64, h: f64) -> CallResult {
         if !(h.is_finite() && h > 0.0) {
@@ -126,11 +135,8 @@ impl<M: Model> Instance<M> {
         self.input_curvatures = curvatures;
         if result.is_err() && self.has_modes && self.values.integers != modes {
             self.values.integers.copy_from_slice(&modes);
-            match self.make_integrator() {
-                Ok(made) => {
-                    integrator = made;
-                    integrator.step_size = step_size;
-                }
+            match self.remade_integrator(step_size) {
+                Ok(made) => integrator = made,
                 Err(message) => result = Err(message),
             }
         }
@@ -148,9 +154,7 @@ impl<M: Model> Instance<M> {
         let settled = if self.has_modes && self.knowns_set { self.settle_modes(t, &known, x) } else { Ok((false, false)) };
         self.values.known = known;
         if settled?.0 {
-            let step_size = integrator.step_size;
-            *integrator = *self.make_integrator()?;
-            integrator.step_size = step_size;
+            *integrator = *self.remade_integrator(integrator.step_size)?;
         }
         let mut now = t;
         let (mut last_event, mut at_one_instant) = (f64::NEG_INFINITY, 0usize);
@@ -211,9 +215,7 @@ impl<M: Model> Instance<M> {
             let known = self.knowns_moved_to(now, t, slopes, curvatures);
             let (modes_changed, _) = self.settle_modes(now, &known, x)?;
             if modes_changed {
-                let step_size = integrator.step_size;
-                *integrator = *self.make_integrator()?;
-                integrator.step_size = step_size;
+                *integrator = *self.remade_integrator(integrator.step_size)?;
             }
         }
         Err(format!("more than {MAX_EVENTS_PER_STEP} events in one communication step"))
