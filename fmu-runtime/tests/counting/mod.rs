@@ -43,6 +43,7 @@ pub fn allocations() -> usize {
 }
 
 /// An initialized Co-Simulation instance, with the given integer parameters set first.
+#[allow(dead_code)] // not every test binary drives an Instance directly
 pub fn initialized<M: Model>(integers: &[(&str, i32)]) -> Instance<M> {
     let mut i = Instance::<M>::new("{test}", Logger::silent());
     for (name, value) in integers {
@@ -56,6 +57,7 @@ pub fn initialized<M: Model>(integers: &[(&str, i32)]) -> Instance<M> {
 }
 
 /// Allocations in `steps` doSteps of `h` after `warm_up` of them.
+#[allow(dead_code)] // not every test binary drives an Instance directly
 pub fn allocations_in_steady_steps<M: Model>(i: &mut Instance<M>, h: f64, warm_up: usize, steps: usize) -> usize {
     let mut t = i.time();
     for _ in 0..warm_up {
