@@ -22,3 +22,21 @@ pub const DOCUMENTATION: crate::documentation::Words = crate::documentation::Wor
     event_indicators: "fmi2GetEventIndicators",
 };
 
+
+pub use xml::write as write_xml;
+
+/// FMI 2.0 FMUs go into the output directory itself.
+pub const FOLDER: &str = "";
+
+/// FMI 2.0's name of the platform this library was built for (FMI 2.0.4, section 2.4: the
+/// binaries folder), if it names one.
+pub fn platform() -> Option<&'static str> {
+    match (std::env::consts::OS, std::env::consts::ARCH) {
+        ("linux", "x86_64") => Some("linux64"),
+        ("linux", "x86") => Some("linux32"),
+        ("macos", "x86_64" | "aarch64") => Some("darwin64"),
+        ("windows", "x86_64") => Some("win64"),
+        ("windows", "x86") => Some("win32"),
+        _ => None,
+    }
+}

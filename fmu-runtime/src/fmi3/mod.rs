@@ -21,3 +21,23 @@ pub const DOCUMENTATION: crate::documentation::Words = crate::documentation::Wor
     new_discrete_states: "fmi3UpdateDiscreteStates",
     event_indicators: "fmi3GetEventIndicators",
 };
+
+pub use xml::write as write_xml;
+
+/// FMI 3.0 FMUs go into `fmi3/` of the output directory.
+pub const FOLDER: &str = "fmi3";
+
+/// FMI 3.0's name of the platform this library was built for (FMI 3.0, section 2.5.1.1: the
+/// architecture and the operating system), if it names one.
+pub fn platform() -> Option<&'static str> {
+    match (std::env::consts::OS, std::env::consts::ARCH) {
+        ("linux", "x86_64") => Some("x86_64-linux"),
+        ("linux", "x86") => Some("x86-linux"),
+        ("linux", "aarch64") => Some("aarch64-linux"),
+        ("macos", "x86_64") => Some("x86_64-darwin"),
+        ("macos", "aarch64") => Some("aarch64-darwin"),
+        ("windows", "x86_64") => Some("x86_64-windows"),
+        ("windows", "x86") => Some("x86-windows"),
+        _ => None,
+    }
+}
