@@ -1,4 +1,4 @@
-//! The one error type of the host: everything that can go wrong *before* an fmi2 function
+//! The one error type of the host: everything that can go wrong *before* an fmi2/fmi3 function
 //! returns a status (loading, parsing, symbol lookup, instantiation, name lookup).
 //!
 //! Statuses returned by the FMU itself are not errors of this type: they are [`crate::Status`]
@@ -31,28 +31,36 @@ pub enum Error {
     MissingFile { path: PathBuf },
     /// `modelDescription.xml` is not well-formed XML.
     Xml { position: u64, message: String },
-    /// `modelDescription.xml` is well-formed but does not describe a usable FMI 2.0 model
+    /// `modelDescription.xml` is well-formed but does not describe a usable FMI 2.0 or 3.0 model
     /// (missing or malformed attribute, duplicate variable, ...).
     ModelDescription(String),
-    /// The FMU does not provide an FMI 2.0 Co-Simulation interface.
+    /// The FMU does not provide the Co-Simulation interface.
     NotCoSimulation,
     /// The shared library could not be opened (`dlopen` failed).
     Library {
         path: PathBuf,
         source: libloading::Error,
     },
-    /// A required `fmi2...` function is not exported by the shared library.
+    /// A required `fmi2...` (FMI 2.0) or `fmi3...` (FMI 3.0) function is not exported by the
+    /// shared library.
     MissingSymbol {
         name: &'static str,
         source: libloading::Error,
     },
     /// An optional function (Model Exchange) was called but the FMU does not export it.
     FunctionNotProvided(&'static str),
+    /// The function does not exist in the FMU's FMI version (e.g. `fmi2CancelStep` or
+    /// `fmi2GetStatus` for an FMI 3.0 FMU, `fmi3GetAdjointDerivative` for an FMI 2.0 one).
+    NotInVersion {
+        function: &'static str,
+        version: crate::ffi::FmiVersion,
+    },
     /// No variable with this name in `modelDescription.xml`.
     UnknownVariable(String),
     /// A string handed to the FMU contains an interior NUL byte.
     InvalidArgument(String),
-    /// `fmi2Instantiate` returned NULL. `log` holds every message the FMU logged meanwhile.
+    /// `fmi2Instantiate` (or `fmi3Instantiate...`) returned NULL. `log` holds every message the
+    /// FMU logged meanwhile.
     InstantiationFailed {
         instance_name: String,
         log: Vec<LogRecord>,
@@ -83,7 +91,7 @@ impl fmt::Display for Error {
             Error::NotCoSimulation => {
                 write!(
                     f,
-                    "the FMU does not provide the FMI 2.0 Co-Simulation interface"
+                    "the FMU does not provide the FMI Co-Simulation interface"
                 )
             }
             Error::Library { path, source } => {
@@ -97,6 +105,9 @@ impl fmt::Display for Error {
                 write!(f, "the shared library does not export {name}: {source}")
             }
             Error::FunctionNotProvided(name) => write!(f, "the FMU does not provide {name}"),
+            Error::NotInVersion { function, version } => {
+                write!(f, "{function} is not available in {version}")
+            }
             Error::UnknownVariable(name) => {
                 write!(f, "no variable named {name:?} in modelDescription.xml")
             }
@@ -104,7 +115,7 @@ impl fmt::Display for Error {
             Error::InstantiationFailed { instance_name, log } => {
                 write!(
                     f,
-                    "fmi2Instantiate returned NULL for instance {instance_name:?}"
+                    "instantiation returned NULL for instance {instance_name:?}"
                 )?;
                 for record in log {
                     write!(f, "\n  {record}")?;

@@ -8,11 +8,12 @@ use std::sync::Arc;
 use libloading::Library;
 
 use crate::error::{Error, Result};
-use crate::ffi::{Functions, ValueReference};
+use crate::ffi::{Api, Fmi3Functions, FmiVersion, Functions, ValueReference};
 use crate::model_description::{ModelDescription, ScalarVariable};
 use crate::tempdir::TempDir;
 
-/// The `binaries/<platform>` folder name and shared-library extension of this host.
+/// The `binaries/<platform>` folder name of FMI 2.0 (`linux64`, ...) and the shared-library
+/// extension of this host. [`platform_for`] gives FMI 3.0's.
 pub fn platform() -> (&'static str, &'static str) {
     let folder = match (std::env::consts::OS, cfg!(target_pointer_width = "64")) {
         ("linux", true) => "linux64",
@@ -25,14 +26,34 @@ pub fn platform() -> (&'static str, &'static str) {
     (folder, std::env::consts::DLL_EXTENSION)
 }
 
-/// A loaded FMI 2.0 Co-Simulation FMU.
+/// The `binaries/<platform>` folder name and shared-library extension of this host for an FMI
+/// version: FMI 2.0's `linux64`, FMI 3.0's platform tuple `<arch>-<os>` (`x86_64-linux`).
+pub fn platform_for(version: FmiVersion) -> (String, &'static str) {
+    match version {
+        FmiVersion::Fmi2 => (platform().0.to_string(), platform().1),
+        FmiVersion::Fmi3 => {
+            let arch = match std::env::consts::ARCH {
+                "x86" => "x86",
+                other => other,
+            };
+            let os = match std::env::consts::OS {
+                "macos" => "darwin",
+                other => other,
+            };
+            (format!("{arch}-{os}"), std::env::consts::DLL_EXTENSION)
+        }
+    }
+}
+
+/// A loaded FMI 2.0 or FMI 3.0 Co-Simulation FMU (the description's `fmiVersion` decides which
+/// functions are resolved and which `binaries/` folder is loaded).
 ///
 /// Created by [`Fmu::load`], always behind an [`Arc`]: every [`crate::Instance`] holds a clone,
 /// so the library stays loaded and the unpacked files stay on disk until the last instance is
 /// gone. `Fmu` is `Send + Sync`; the instances made from it can live on different threads.
 pub struct Fmu {
     // Field order is drop order: the library is unloaded before its directory is removed.
-    functions: Functions,
+    api: Api,
     /// Kept only to keep the code of `functions` mapped; unloaded on drop.
     _library: Library,
     model_description: ModelDescription,
@@ -53,7 +74,8 @@ impl std::fmt::Debug for Fmu {
 
 impl Fmu {
     /// Unpacks `path` into a fresh temporary directory, parses `modelDescription.xml`, loads
-    /// `binaries/<platform>/<modelIdentifier>.<ext>` and resolves every `fmi2` function.
+    /// `binaries/<platform>/<modelIdentifier>.<ext>` and resolves every `fmi2` function (FMI 2.0)
+    /// or `fmi3` function (FMI 3.0; `<platform>` is then a platform tuple, `x86_64-linux`).
     ///
     /// Each call loads its own copy of the library (from its own directory), so two `Fmu`s of
     /// the same file do not share global state.
@@ -94,7 +116,8 @@ impl Fmu {
             .model_identifier
             .clone();
 
-        let (platform, extension) = platform();
+        let version = model_description.version();
+        let (platform, extension) = platform_for(version);
         let relative = Path::new("binaries")
             .join(platform)
             .join(format!("{identifier}.{extension}"));
@@ -108,12 +131,18 @@ impl Fmu {
             path: library_path.clone(),
             source,
         })?;
-        // SAFETY: the symbols are the fmi2 functions with the signatures of the standard; the
-        // table is stored next to `library`, which outlives every use of it.
-        let functions = unsafe { Functions::load(&library)? };
+        // SAFETY: the symbols are the fmi2 (fmi3) functions with the signatures of the standard
+        // the description names; the table is stored next to `library`, which outlives every
+        // use of it.
+        let api = unsafe {
+            match version {
+                FmiVersion::Fmi2 => Api::Fmi2(Functions::load(&library)?),
+                FmiVersion::Fmi3 => Api::Fmi3(Fmi3Functions::load(&library)?),
+            }
+        };
 
         Ok(Arc::new(Fmu {
-            functions,
+            api,
             _library: library,
             model_description,
             fmu_path,
@@ -141,9 +170,34 @@ impl Fmu {
         names.iter().map(|n| self.vr(n)).collect()
     }
 
-    /// The raw function table. The pointers are valid as long as this `Fmu` lives.
+    /// FMI 2.0 or FMI 3.0.
+    pub fn fmi_version(&self) -> FmiVersion {
+        self.api.version()
+    }
+
+    /// The raw function table of the FMU's version. The pointers are valid as long as this
+    /// `Fmu` lives.
+    pub fn api(&self) -> &Api {
+        &self.api
+    }
+
+    /// The raw FMI 2.0 function table. The pointers are valid as long as this `Fmu` lives.
+    ///
+    /// # Panics
+    /// For an FMI 3.0 FMU (use [`Fmu::api`] or [`Fmu::fmi3_functions`]).
     pub fn functions(&self) -> &Functions {
-        &self.functions
+        match &self.api {
+            Api::Fmi2(f) => f,
+            Api::Fmi3(_) => panic!("{:?} is an FMI 3.0 FMU: it has no fmi2 function table (use Fmu::api)", self.fmu_path),
+        }
+    }
+
+    /// The raw FMI 3.0 function table, `None` for an FMI 2.0 FMU.
+    pub fn fmi3_functions(&self) -> Option<&Fmi3Functions> {
+        match &self.api {
+            Api::Fmi2(_) => None,
+            Api::Fmi3(f) => Some(f),
+        }
     }
 
     /// Where the FMU was unpacked.
@@ -156,9 +210,18 @@ impl Fmu {
         self.dir.path().join("resources")
     }
 
-    /// `file://` URI of [`Fmu::resources_dir`], as given to `fmi2Instantiate`.
+    /// `file://` URI of [`Fmu::resources_dir`], as given to `fmi2Instantiate` (FMI 3.0 takes
+    /// [`Fmu::resource_path`]).
     pub fn resource_uri(&self) -> String {
         file_uri(&self.resources_dir())
+    }
+
+    /// The absolute path of [`Fmu::resources_dir`] with a trailing separator, as given to
+    /// `fmi3Instantiate...` (`resourcePath`).
+    pub fn resource_path(&self) -> String {
+        let mut path = self.resources_dir().to_string_lossy().into_owned();
+        path.push(std::path::MAIN_SEPARATOR);
+        path
     }
 
     pub fn fmu_path(&self) -> &Path {
@@ -169,16 +232,23 @@ impl Fmu {
         &self.library_path
     }
 
-    /// `fmi2GetVersion()`.
+    /// `fmi2GetVersion()` or `fmi3GetVersion()`.
     pub fn version(&self) -> String {
+        let get_version = match &self.api {
+            Api::Fmi2(f) => f.get_version,
+            Api::Fmi3(f) => f.get_version,
+        };
         // SAFETY: no arguments; the FMU returns a static NUL-terminated string (checked for NULL).
-        unsafe { static_str((self.functions.get_version)()) }
+        unsafe { static_str(get_version()) }
     }
 
-    /// `fmi2GetTypesPlatform()`.
-    pub fn types_platform(&self) -> String {
-        // SAFETY: as for `version`.
-        unsafe { static_str((self.functions.get_types_platform)()) }
+    /// `fmi2GetTypesPlatform()` (FMI 3.0 has none: [`Error::NotInVersion`]).
+    pub fn types_platform(&self) -> Result<String> {
+        match &self.api {
+            // SAFETY: as for `version`.
+            Api::Fmi2(f) => Ok(unsafe { static_str((f.get_types_platform)()) }),
+            Api::Fmi3(_) => Err(Error::NotInVersion { function: "fmi2GetTypesPlatform", version: FmiVersion::Fmi3 }),
+        }
     }
 }
 
@@ -279,6 +349,20 @@ mod tests {
             Fmu::load(&path).unwrap_err(),
             Error::NotCoSimulation
         ));
+
+        // FMI 3.0: the binary is looked up under the platform tuple.
+        let md3 = r#"<fmiModelDescription fmiVersion="3.0" modelName="M" instantiationToken="t">
+            <CoSimulation modelIdentifier="M"/><ModelVariables/></fmiModelDescription>"#;
+        let (_d, path) = zip_with(&[("modelDescription.xml", md3.as_bytes()), (&format!("binaries/{}/M.{}", platform().0, platform().1), b"x")]);
+        let err = Fmu::load(&path).unwrap_err();
+        let tuple = platform_for(FmiVersion::Fmi3).0;
+        assert!(
+            matches!(&err, Error::MissingFile { path } if path.ends_with(format!("{tuple}/M.{}", platform().1))),
+            "{err}"
+        );
+        if cfg!(all(target_os = "linux", target_arch = "x86_64")) {
+            assert_eq!(tuple, "x86_64-linux");
+        }
 
         let (folder, ext) = platform();
         let lib = format!("binaries/{folder}/M.{ext}");

@@ -1,7 +1,9 @@
-//! `fmi_host`: a small native FMI 2.0 Co-Simulation host.
+//! `fmi_host`: a small native FMI 2.0 and FMI 3.0 Co-Simulation (and Model Exchange) host.
 //!
 //! It loads an FMU the way a co-simulation master does and exposes every fmi2 function as a
-//! thin method returning the FMU's raw [`Status`]. It is used by the integration tests of the
+//! thin method returning the FMU's raw [`Status`]. The FMU's `fmiVersion` picks the function
+//! table ([`Api`]): the same [`Instance`] methods call `fmi2*` or `fmi3*` functions (see
+//! [`instance`] for where the versions differ; [`dist::dist_dirs`] names the FMI 3.0 builds). It is used by the integration tests of the
 //! project's FMUs, by the co-simulation master and by the benchmarks.
 //!
 //! ```no_run
@@ -20,10 +22,10 @@
 //! Modules, one job each:
 //! - [`fmu`]: unpack, parse, `dlopen`, resolve symbols ([`Fmu`]);
 //! - [`model_description`]: the `modelDescription.xml` parser;
-//! - [`instance`]: one `fmi2Component` ([`Instance`]);
+//! - [`instance`]: one `fmi2Component` / `fmi3Instance` ([`Instance`]);
 //! - [`state`]: FMU state get/set/free/serialize ([`FmuState`]);
 //! - [`logger`]: the logger callback and per-instance [`LogRecord`]s;
-//! - [`ffi`]: the raw C types and function table;
+//! - [`ffi`]: the raw C types and function tables (FMI 2.0 and FMI 3.0);
 //! - [`tempdir`]: the unique temporary directory an FMU is unpacked into;
 //! - [`model_exchange`]: a strict Model Exchange master (its own Dormand-Prince integrator,
 //!   CVODE's rules for indicators at zero after an event);
@@ -46,13 +48,13 @@ pub mod state;
 pub mod tempdir;
 
 pub use error::{Error, Result};
-pub use ffi::{Fmi2Type, Status, StatusKind, ValueReference};
+pub use ffi::{Api, Fmi2Type, FmiVersion, Status, StatusKind, ValueReference};
 pub use fmu::Fmu;
-pub use instance::{Instance, InstantiateOptions, ResourceLocation};
+pub use instance::{DoStepOutcome, Instance, InstantiateOptions, ResourceLocation};
 pub use logger::{LogCollector, LogRecord};
 pub use model_description::{
-    Causality, CoSimulation, DefaultExperiment, Initial, ModelDescription, ScalarVariable,
-    StartValue, Variability, VariableType,
+    Causality, CoSimulation, DefaultExperiment, Initial, ModelDescription, ModelStructure,
+    ScalarVariable, StartValue, Unknown, Variability, VariableType,
 };
 pub use state::FmuState;
 

@@ -1,9 +1,10 @@
 //! The logger callback and the per-instance record of everything an FMU logged.
 //!
 //! Each [`crate::Instance`] owns a boxed [`LogSink`] whose address is the
-//! `componentEnvironment` given to `fmi2Instantiate`; the C callback [`logger_callback`] finds
-//! its sink through that pointer, so messages of different instances never mix, even on
-//! different threads.
+//! `componentEnvironment` given to `fmi2Instantiate` (the `instanceEnvironment` of
+//! `fmi3Instantiate...`); the C callbacks [`logger_callback`] (FMI 2.0) and
+//! [`log_message_callback`] (FMI 3.0) find their sink through that pointer, so messages of
+//! different instances never mix, even on different threads.
 //!
 //! Limitation (see [`crate::ffi::LoggerFn`]): the callback is declared non-variadic, so variadic
 //! `printf` arguments are ignored; `%%` in the message is turned into `%`.
@@ -84,12 +85,23 @@ impl LogCollector {
     }
 }
 
-/// What `componentEnvironment` points to.
+/// What `componentEnvironment` (FMI 3.0: `instanceEnvironment`) points to.
 #[derive(Debug)]
 pub struct LogSink {
     pub collector: LogCollector,
     /// Also print every message to stderr as it arrives.
     pub echo: bool,
+    /// The instance's name, for the records of FMI 3.0's callback (which does not pass it).
+    pub instance_name: String,
+}
+
+impl LogSink {
+    fn record(&self, record: LogRecord) {
+        if self.echo {
+            eprintln!("{record}");
+        }
+        self.collector.push(record);
+    }
 }
 
 /// Copies a C string that may be NULL or not UTF-8.
@@ -128,10 +140,32 @@ pub unsafe extern "C" fn logger_callback(
         return;
     }
     let sink = &*(env as *const LogSink);
-    if sink.echo {
-        eprintln!("{record}");
+    sink.record(record);
+}
+
+/// The `fmi3LogMessageCallback` given to every FMI 3.0 instance: the message is plain text (not
+/// a format string, so `%%` stays as it is), the instance name is the sink's.
+///
+/// # Safety
+/// Called by the FMU with `env` = the `instanceEnvironment` it was given (a live `LogSink`) or
+/// NULL, and NUL-terminated (or NULL) strings.
+pub unsafe extern "C" fn log_message_callback(
+    env: ComponentEnvironment,
+    status: Status,
+    category: *const c_char,
+    message: *const c_char,
+) {
+    if env.is_null() {
+        eprintln!("fmi-host: log without instanceEnvironment: {status} ({}): {}", lossy(category), lossy(message));
+        return;
     }
-    sink.collector.push(record);
+    let sink = &*(env as *const LogSink);
+    sink.record(LogRecord {
+        instance_name: sink.instance_name.clone(),
+        status,
+        category: lossy(category),
+        message: lossy(message),
+    });
 }
 
 #[cfg(test)]
@@ -144,6 +178,7 @@ mod tests {
         let sink = Box::new(LogSink {
             collector: LogCollector::default(),
             echo: false,
+            instance_name: String::new(),
         });
         let name = CString::new("inst").unwrap();
         let cat = CString::new("logStatusError").unwrap();

@@ -1,9 +1,17 @@
-//! `modelDescription.xml` of an FMI 2.0 FMU: the subset a co-simulation host needs, parsed with
-//! quick-xml.
+//! `modelDescription.xml` of an FMI 2.0 or FMI 3.0 FMU: the subset a co-simulation host needs,
+//! parsed with quick-xml.
 //!
-//! Unknown elements and attributes are ignored (vendor annotations, `TypeDefinitions`,
-//! `ModelStructure`, ...); what is read is validated (required attributes present, numbers
-//! parse, exactly one type element per `ScalarVariable`, unique names).
+//! FMI 2.0 declares a variable as `<ScalarVariable ...><Real .../></ScalarVariable>`, FMI 3.0
+//! as one typed element (`<Float64 .../>`, `<Int32/>`, `<Boolean/>`, `<String><Start/></String>`,
+//! `<Enumeration/>`); both become a [`ScalarVariable`] with the FMI 2.0 names of the base types
+//! (Float64 is `Real`, Int32 is `Integer`). FMI 3.0's other types (Float32, the 8-, 16- and
+//! 64-bit and unsigned integers, Binary, Clock) and array variables (`<Dimension>`) are refused
+//! with [`Error::ModelDescription`]: this host has no methods for them. The `ModelStructure` of
+//! both versions is read into value references ([`ModelStructure`]).
+//!
+//! Unknown elements and attributes are ignored (vendor annotations, `TypeDefinitions`, ...);
+//! what is read is validated (required attributes present, numbers parse, exactly one type
+//! element per `ScalarVariable`, unique names).
 
 use std::collections::HashMap;
 
@@ -11,13 +19,14 @@ use quick_xml::events::{BytesStart, Event};
 use quick_xml::{Reader, XmlVersion};
 
 use crate::error::{Error, Result};
-use crate::ffi::ValueReference;
+use crate::ffi::{FmiVersion, ValueReference};
 
 /// `fmiModelDescription` (the parts this host uses).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelDescription {
     pub fmi_version: String,
     pub model_name: String,
+    /// FMI 2.0's `guid`, or FMI 3.0's `instantiationToken` (what instantiation is given).
     pub guid: String,
     pub description: Option<String>,
     pub author: Option<String>,
@@ -27,15 +36,41 @@ pub struct ModelDescription {
     pub generation_tool: Option<String>,
     /// `generationDateAndTime`, as written (an xs:dateTime).
     pub generation_date_and_time: Option<String>,
+    /// FMI 2.0's `numberOfEventIndicators`; for FMI 3.0 the number of `<EventIndicator>`s of
+    /// the ModelStructure.
     pub number_of_event_indicators: Option<u32>,
     pub co_simulation: Option<CoSimulation>,
     /// Only the `modelIdentifier` matters to this host.
     pub model_exchange: Option<ModelExchange>,
     pub default_experiment: Option<DefaultExperiment>,
     /// In document order; the index of a variable is its 1-based position minus one, as
-    /// `ModelStructure` counts them.
+    /// FMI 2.0's `ModelStructure` counts them. FMI 3.0 descriptions also list their independent
+    /// variable (`time`) here.
     pub model_variables: Vec<ScalarVariable>,
+    /// The outputs, state derivatives, initial unknowns and (FMI 3.0) event indicators.
+    pub model_structure: ModelStructure,
     by_name: HashMap<String, usize>,
+}
+
+/// One unknown of the `ModelStructure`, in value references (FMI 2.0's indices are turned into
+/// the value references of the variables they count).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Unknown {
+    pub value_reference: ValueReference,
+    /// `None`: the attribute is absent (depends on every known); `Some(empty)`: on none.
+    pub dependencies: Option<Vec<ValueReference>>,
+}
+
+/// `<ModelStructure>`: FMI 2.0's `<Outputs>`, `<Derivatives>`, `<InitialUnknowns>` (of
+/// `<Unknown index=...>`), FMI 3.0's `<Output>`, `<ContinuousStateDerivative>`,
+/// `<InitialUnknown>` and `<EventIndicator>` (of `valueReference`s).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ModelStructure {
+    pub outputs: Vec<Unknown>,
+    pub continuous_state_derivatives: Vec<Unknown>,
+    pub initial_unknowns: Vec<Unknown>,
+    /// FMI 3.0 only (FMI 2.0 only counts them: `numberOfEventIndicators`).
+    pub event_indicators: Vec<Unknown>,
 }
 
 /// `<CoSimulation>`: the model identifier and the capability flags (absent flags are `false`,
@@ -52,7 +87,12 @@ pub struct CoSimulation {
     pub can_not_use_memory_management_functions: bool,
     pub can_get_and_set_fmu_state: bool,
     pub can_serialize_fmu_state: bool,
+    /// FMI 2.0's `providesDirectionalDerivative`, FMI 3.0's `providesDirectionalDerivatives`.
     pub provides_directional_derivative: bool,
+    /// FMI 3.0's `providesAdjointDerivatives` (false for FMI 2.0).
+    pub provides_adjoint_derivatives: bool,
+    /// FMI 3.0's `hasEventMode` (false for FMI 2.0).
+    pub has_event_mode: bool,
 }
 
 /// `<ModelExchange>`.
@@ -151,7 +191,8 @@ pub struct ScalarVariable {
     /// `max` of a Real, Integer or Enumeration variable.
     pub max: Option<f64>,
     pub nominal: Option<f64>,
-    /// `derivative`: 1-based index of the variable this one is the derivative of.
+    /// `derivative`: 1-based index of the variable this one is the derivative of (FMI 3.0's
+    /// attribute, a value reference, is turned into that index).
     pub derivative: Option<u32>,
 }
 
@@ -159,6 +200,11 @@ impl ModelDescription {
     /// Parses the text of a `modelDescription.xml`.
     pub fn parse(xml: &str) -> Result<ModelDescription> {
         Parser::default().run(xml.strip_prefix('\u{feff}').unwrap_or(xml))
+    }
+
+    /// FMI 2.0 or FMI 3.0 (the parser accepts no other `fmiVersion`).
+    pub fn version(&self) -> FmiVersion {
+        FmiVersion::of(&self.fmi_version).expect("checked by the parser")
     }
 
     /// The variable called `name`.
@@ -175,6 +221,7 @@ fn invalid(msg: impl Into<String>) -> Error {
 }
 
 /// The attributes of one element, unescaped, as (name, value) pairs.
+#[derive(Clone)]
 struct Attributes {
     element: String,
     pairs: Vec<(String, String)>,
@@ -330,11 +377,33 @@ impl PendingVariable {
     }
 }
 
+/// The FMI 3.0 variable elements and the base type this host reads them as.
+fn fmi3_variable_type(element: &str) -> Option<VariableType> {
+    Some(match element {
+        "Float64" => VariableType::Real,
+        "Int32" => VariableType::Integer,
+        "Boolean" => VariableType::Boolean,
+        "String" => VariableType::String,
+        "Enumeration" => VariableType::Enumeration,
+        _ => return None,
+    })
+}
+
+/// FMI 3.0 variable elements this host cannot read or write.
+const FMI3_UNSUPPORTED_TYPES: [&str; 10] =
+    ["Float32", "Int8", "UInt8", "Int16", "UInt16", "UInt32", "Int64", "UInt64", "Binary", "Clock"];
+
+/// The ModelStructure lists, while parsing: (list, value reference or FMI 2.0 index, dependencies
+/// as written).
+type RawUnknown = (&'static str, u64, Option<Vec<u64>>);
+
 #[derive(Default)]
 struct Parser {
     /// Names of the open elements, outermost first.
     stack: Vec<String>,
     root: Option<Attributes>,
+    version: Option<FmiVersion>,
+    unknowns: Vec<RawUnknown>,
     co_simulation: Option<CoSimulation>,
     model_exchange: Option<ModelExchange>,
     default_experiment: Option<DefaultExperiment>,
@@ -381,7 +450,13 @@ impl Parser {
         let element = attrs.element.clone();
         let parent = self.parent().map(str::to_owned);
         match (parent.as_deref(), element.as_str()) {
-            (None, "fmiModelDescription") => self.root = Some(attrs),
+            (None, "fmiModelDescription") => {
+                let text = attrs.required("fmiVersion")?;
+                self.version = Some(FmiVersion::of(&text).ok_or_else(|| {
+                    invalid(format!("fmiVersion {text:?} is neither FMI 2.0 nor FMI 3.0"))
+                })?);
+                self.root = Some(attrs);
+            }
             (None, other) => {
                 return Err(invalid(format!(
                     "root element is <{other}>, not <fmiModelDescription>"
@@ -402,9 +477,15 @@ impl Parser {
                         .flag("canBeInstantiatedOnlyOncePerProcess")?,
                     can_not_use_memory_management_functions: attrs
                         .flag("canNotUseMemoryManagementFunctions")?,
-                    can_get_and_set_fmu_state: attrs.flag("canGetAndSetFMUstate")?,
-                    can_serialize_fmu_state: attrs.flag("canSerializeFMUstate")?,
-                    provides_directional_derivative: attrs.flag("providesDirectionalDerivative")?,
+                    // FMI 3.0 spells these FMUState and Derivatives.
+                    can_get_and_set_fmu_state: attrs.flag("canGetAndSetFMUstate")?
+                        || attrs.flag("canGetAndSetFMUState")?,
+                    can_serialize_fmu_state: attrs.flag("canSerializeFMUstate")?
+                        || attrs.flag("canSerializeFMUState")?,
+                    provides_directional_derivative: attrs.flag("providesDirectionalDerivative")?
+                        || attrs.flag("providesDirectionalDerivatives")?,
+                    provides_adjoint_derivatives: attrs.flag("providesAdjointDerivatives")?,
+                    has_event_mode: attrs.flag("hasEventMode")?,
                 });
             }
             (Some("fmiModelDescription"), "ModelExchange") => {
@@ -420,8 +501,51 @@ impl Parser {
                     step_size: attrs.parsed("stepSize")?,
                 });
             }
-            (Some("ModelVariables"), "ScalarVariable") => {
+            (Some("ModelVariables"), "ScalarVariable") if self.version == Some(FmiVersion::Fmi2) => {
                 self.pending = Some(PendingVariable { attrs, typed: None });
+            }
+            (Some("ModelVariables"), kind) if self.version == Some(FmiVersion::Fmi3) => {
+                if let Some(variable_type) = fmi3_variable_type(kind) {
+                    self.pending = Some(PendingVariable { typed: Some((variable_type, attrs.clone())), attrs });
+                } else if FMI3_UNSUPPORTED_TYPES.contains(&kind) {
+                    return Err(invalid(format!(
+                        "variable {:?} is a {kind}: this host reads Float64, Int32, Boolean, String and Enumeration variables only",
+                        attrs.get("name").unwrap_or("?")
+                    )));
+                }
+            }
+            (Some("String"), "Start") if self.version == Some(FmiVersion::Fmi3) => {
+                // FMI 3.0 gives a String's start value as a child element.
+                if let Some((_, typed)) = self.pending.as_mut().and_then(|p| p.typed.as_mut()) {
+                    let value = attrs.required("value")?;
+                    typed.pairs.retain(|(k, _)| k != "start");
+                    typed.pairs.push(("start".into(), value));
+                }
+            }
+            (Some(parent), "Dimension") if self.version == Some(FmiVersion::Fmi3) && self.pending.is_some() => {
+                return Err(invalid(format!("variable {:?} of <{parent}> is an array: this host reads scalar variables only",
+                    self.pending.as_ref().and_then(|p| p.attrs.get("name")).unwrap_or("?"))));
+            }
+            (Some("ModelStructure"), list @ ("Output" | "ContinuousStateDerivative" | "InitialUnknown" | "EventIndicator"))
+                if self.version == Some(FmiVersion::Fmi3) =>
+            {
+                let list: &'static str = match list {
+                    "Output" => "Outputs",
+                    "ContinuousStateDerivative" => "Derivatives",
+                    "InitialUnknown" => "InitialUnknowns",
+                    _ => "EventIndicators",
+                };
+                self.unknowns.push(Self::unknown(list, &attrs, "valueReference")?);
+            }
+            (Some(list @ ("Outputs" | "Derivatives" | "InitialUnknowns")), "Unknown")
+                if self.version == Some(FmiVersion::Fmi2) && self.stack.iter().rev().nth(1).map(String::as_str) == Some("ModelStructure") =>
+            {
+                let list: &'static str = match list {
+                    "Outputs" => "Outputs",
+                    "Derivatives" => "Derivatives",
+                    _ => "InitialUnknowns",
+                };
+                self.unknowns.push(Self::unknown(list, &attrs, "index")?);
             }
             (
                 Some("ScalarVariable"),
@@ -449,10 +573,29 @@ impl Parser {
         Ok(())
     }
 
+    /// One ModelStructure entry: its value reference (FMI 3.0) or index (FMI 2.0) and its
+    /// dependencies as written.
+    fn unknown(list: &'static str, attrs: &Attributes, key: &str) -> Result<RawUnknown> {
+        let at = attrs.parsed::<u64>(key)?.ok_or_else(|| invalid(format!("<{}> has no attribute {key}", attrs.element)))?;
+        let dependencies = match attrs.get("dependencies") {
+            None => None,
+            Some(text) => Some(
+                text.split_whitespace()
+                    .map(|d| d.parse::<u64>().map_err(|_| invalid(format!("<{}> dependency {d:?} is not a number", attrs.element))))
+                    .collect::<Result<Vec<u64>>>()?,
+            ),
+        };
+        Ok((list, at, dependencies))
+    }
+
     fn close(&mut self, name: &str) -> Result<()> {
         // quick-xml already checks that end tags match start tags.
         self.stack.pop();
-        if name == "ScalarVariable" && self.parent() == Some("ModelVariables") {
+        let variable_element = match self.version {
+            Some(FmiVersion::Fmi3) => fmi3_variable_type(name).is_some(),
+            _ => name == "ScalarVariable",
+        };
+        if variable_element && self.parent() == Some("ModelVariables") {
             if let Some(pending) = self.pending.take() {
                 self.variables.push(pending.finish()?);
             }
@@ -471,20 +614,62 @@ impl Parser {
             .root
             .ok_or_else(|| invalid("no <fmiModelDescription> element"))?;
         let fmi_version = root.required("fmiVersion")?;
-        if !fmi_version.starts_with("2.") {
-            return Err(invalid(format!(
-                "fmiVersion {fmi_version:?} is not FMI 2.0"
-            )));
-        }
-        let mut by_name = HashMap::with_capacity(self.variables.len());
-        for (i, v) in self.variables.iter().enumerate() {
+        let version = self.version.expect("set with the root");
+        let mut variables = self.variables;
+        let mut by_name = HashMap::with_capacity(variables.len());
+        for (i, v) in variables.iter().enumerate() {
             if by_name.insert(v.name.clone(), i).is_some() {
                 return Err(invalid(format!("two variables are named {:?}", v.name)));
             }
         }
+        // What a ModelStructure number names: FMI 2.0 a 1-based index, FMI 3.0 a value reference.
+        let vr_of = |n: u64| -> Result<ValueReference> {
+            match version {
+                FmiVersion::Fmi2 => n
+                    .checked_sub(1)
+                    .and_then(|i| variables.get(i as usize))
+                    .map(|v| v.value_reference)
+                    .ok_or_else(|| invalid(format!("ModelStructure index {n} is not a variable (1..={})", variables.len()))),
+                FmiVersion::Fmi3 => ValueReference::try_from(n)
+                    .ok()
+                    .filter(|vr| variables.iter().any(|v| v.value_reference == *vr))
+                    .ok_or_else(|| invalid(format!("ModelStructure value reference {n} is not a variable's"))),
+            }
+        };
+        let mut model_structure = ModelStructure::default();
+        for (list, at, dependencies) in &self.unknowns {
+            let unknown = Unknown {
+                value_reference: vr_of(*at)?,
+                dependencies: dependencies.as_ref().map(|d| d.iter().map(|n| vr_of(*n)).collect::<Result<Vec<_>>>()).transpose()?,
+            };
+            match *list {
+                "Outputs" => model_structure.outputs.push(unknown),
+                "Derivatives" => model_structure.continuous_state_derivatives.push(unknown),
+                "InitialUnknowns" => model_structure.initial_unknowns.push(unknown),
+                _ => model_structure.event_indicators.push(unknown),
+            }
+        }
+        let (guid, number_of_event_indicators) = match version {
+            FmiVersion::Fmi2 => (root.required("guid")?, root.parsed("numberOfEventIndicators")?),
+            FmiVersion::Fmi3 => {
+                // FMI 3.0's `derivative` is the state's value reference: keep FMI 2.0's meaning
+                // (its 1-based index) in `ScalarVariable::derivative`.
+                let index_of: HashMap<ValueReference, usize> =
+                    variables.iter().enumerate().map(|(i, v)| (v.value_reference, i)).collect();
+                for v in variables.iter_mut() {
+                    if let Some(state) = v.derivative {
+                        let i = index_of.get(&state).ok_or_else(|| {
+                            invalid(format!("{:?} is the derivative of value reference {state}, which no variable has", v.name))
+                        })?;
+                        v.derivative = Some(*i as u32 + 1);
+                    }
+                }
+                (root.required("instantiationToken")?, Some(model_structure.event_indicators.len() as u32))
+            }
+        };
         Ok(ModelDescription {
             model_name: root.required("modelName")?,
-            guid: root.required("guid")?,
+            guid,
             description: root.string("description"),
             author: root.string("author"),
             version: root.string("version"),
@@ -492,12 +677,13 @@ impl Parser {
             license: root.string("license"),
             generation_tool: root.string("generationTool"),
             generation_date_and_time: root.string("generationDateAndTime"),
-            number_of_event_indicators: root.parsed("numberOfEventIndicators")?,
+            number_of_event_indicators,
             fmi_version,
             co_simulation: self.co_simulation,
             model_exchange: self.model_exchange,
             default_experiment: self.default_experiment,
-            model_variables: self.variables,
+            model_variables: variables,
+            model_structure,
             by_name,
         })
     }
@@ -662,6 +848,92 @@ mod tests {
             ),
             XML.replace(r#"start="-2.5""#, r#"start="minus two""#),
             XML.replace("fmiModelDescription", "somethingElse"),
+        ];
+        for (i, xml) in cases.iter().enumerate() {
+            match ModelDescription::parse(xml) {
+                Err(Error::ModelDescription(_)) => {}
+                other => panic!("case {i}: expected a ModelDescription error, got {other:?}"),
+            }
+        }
+    }
+
+    const XML3: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<fmiModelDescription fmiVersion="3.0" modelName="Demo3" instantiationToken="{token-3}" numberOfEventIndicators="99">
+  <ModelExchange modelIdentifier="Demo3" canGetAndSetFMUState="true"/>
+  <CoSimulation modelIdentifier="Demo3" canGetAndSetFMUState="true" canSerializeFMUState="true"
+      providesDirectionalDerivatives="true" providesAdjointDerivatives="true" hasEventMode="false"
+      maxOutputDerivativeOrder="1"/>
+  <TypeDefinitions><Float64Type name="Voltage" unit="V"/></TypeDefinitions>
+  <DefaultExperiment startTime="0" stopTime="1" stepSize="0.01"/>
+  <ModelVariables>
+    <Float64 name="time" valueReference="7" causality="independent" variability="continuous"/>
+    <Float64 name="x" valueReference="0" initial="exact" start="-2.5" nominal="2"/>
+    <Float64 name="der(x)" valueReference="1" derivative="0"/>
+    <Float64 name="u" valueReference="2" causality="input" declaredType="Voltage" start="0"/>
+    <Int32 name="n" valueReference="3" causality="output" variability="discrete" min="-3" max="7"/>
+    <Boolean name="on" valueReference="4" causality="parameter" variability="tunable" start="true"/>
+    <String name="label" valueReference="5" causality="parameter" variability="fixed"><Start value="a &amp; b"/></String>
+    <Float64 name="event_indicator.z" valueReference="6" initial="calculated"/>
+  </ModelVariables>
+  <ModelStructure>
+    <Output valueReference="3" dependencies="0 2"/>
+    <ContinuousStateDerivative valueReference="1"/>
+    <InitialUnknown valueReference="3" dependencies=""/>
+    <EventIndicator valueReference="6"/>
+  </ModelStructure>
+</fmiModelDescription>"#;
+
+    #[test]
+    fn parses_an_fmi3_description() {
+        let md = ModelDescription::parse(XML3).unwrap();
+        assert_eq!(md.version(), FmiVersion::Fmi3);
+        assert_eq!(md.guid, "{token-3}", "the instantiationToken");
+        assert_eq!(md.number_of_event_indicators, Some(1), "counted from the ModelStructure, not the (FMI 2.0) attribute");
+        let cs = md.co_simulation.as_ref().unwrap();
+        assert!(cs.can_get_and_set_fmu_state && cs.can_serialize_fmu_state && cs.provides_directional_derivative && cs.provides_adjoint_derivatives);
+        assert!(!cs.has_event_mode);
+        assert_eq!(cs.max_output_derivative_order, 1);
+        assert_eq!(md.model_exchange.as_ref().unwrap().model_identifier, "Demo3");
+        assert_eq!(md.model_variables.len(), 8);
+        let time = md.variable("time").unwrap();
+        assert_eq!((time.causality, time.variable_type, time.value_reference), (Causality::Independent, VariableType::Real, 7));
+        let x = md.variable("x").unwrap();
+        assert_eq!((x.start.clone(), x.nominal, x.initial), (Some(StartValue::Real(-2.5)), Some(2.0), Some(Initial::Exact)));
+        // FMI 3.0's derivative="0" names x by value reference; the host keeps FMI 2.0's 1-based index.
+        assert_eq!(md.variable("der(x)").unwrap().derivative, Some(2));
+        assert_eq!(md.variable("u").unwrap().declared_type.as_deref(), Some("Voltage"));
+        let n = md.variable("n").unwrap();
+        assert_eq!((n.variable_type, n.min, n.max, n.variability), (VariableType::Integer, Some(-3.0), Some(7.0), Variability::Discrete));
+        assert_eq!(md.variable("on").unwrap().start, Some(StartValue::Boolean(true)));
+        assert_eq!(md.variable("label").unwrap().start, Some(StartValue::String("a & b".into())));
+        let ms = &md.model_structure;
+        assert_eq!(ms.outputs, vec![Unknown { value_reference: 3, dependencies: Some(vec![0, 2]) }]);
+        assert_eq!(ms.continuous_state_derivatives, vec![Unknown { value_reference: 1, dependencies: None }]);
+        assert_eq!(ms.initial_unknowns, vec![Unknown { value_reference: 3, dependencies: Some(vec![]) }]);
+        assert_eq!(ms.event_indicators, vec![Unknown { value_reference: 6, dependencies: None }]);
+    }
+
+    #[test]
+    fn reads_the_fmi2_model_structure_in_value_references() {
+        let md = ModelDescription::parse(XML).unwrap();
+        assert_eq!(md.version(), FmiVersion::Fmi2);
+        // <Unknown index="5"/> is the fifth variable, n (value reference 0).
+        assert_eq!(md.model_structure.outputs, vec![Unknown { value_reference: 0, dependencies: None }]);
+        let bad = XML.replace(r#"<Unknown index="5"/>"#, r#"<Unknown index="9"/>"#);
+        assert!(matches!(ModelDescription::parse(&bad), Err(Error::ModelDescription(_))));
+    }
+
+    #[test]
+    fn invalid_fmi3_content_is_an_error() {
+        let cases = [
+            XML3.replace(r#"instantiationToken="{token-3}""#, ""),
+            XML3.replace(r#"fmiVersion="3.0""#, r#"fmiVersion="4.0""#),
+            XML3.replace(r#"<Int32 name="n""#, r#"<UInt8 name="n""#),
+            XML3.replace(r#"<Float64 name="u" valueReference="2" causality="input" declaredType="Voltage" start="0"/>"#, r#"<Float64 name="u" valueReference="2" causality="input"><Dimension start="2"/></Float64>"#),
+            XML3.replace(r#"derivative="0""#, r#"derivative="42""#),
+            XML3.replace(r#"<EventIndicator valueReference="6"/>"#, r#"<EventIndicator valueReference="60"/>"#),
+            XML3.replace(r#"dependencies="0 2""#, r#"dependencies="0 two""#),
+            XML3.replace(r#"name="u""#, r#"name="x""#),
         ];
         for (i, xml) in cases.iter().enumerate() {
             match ModelDescription::parse(xml) {

@@ -1,10 +1,10 @@
 //! FMU state helpers: `fmi2GetFMUstate`, `fmi2SetFMUstate`, `fmi2FreeFMUstate` and
-//! (de)serialization, as methods of [`Instance`].
+//! (de)serialization (FMI 3.0: `fmi3GetFMUState`, ...), as methods of [`Instance`].
 
 use std::ffi::c_char;
 use std::ptr;
 
-use crate::ffi::{FmuStatePtr, Status};
+use crate::ffi::{Api, FmuStatePtr, Status};
 use crate::instance::Instance;
 
 /// A handle to an FMU state (`fmi2FMUstate`) owned by the instance that made it.
@@ -43,35 +43,58 @@ impl Instance {
     pub fn get_fmu_state(&mut self) -> (Status, Option<FmuState>) {
         let mut raw: FmuStatePtr = ptr::null_mut();
         // SAFETY: valid out pointer.
-        let status = unsafe { (self.f().get_fmu_state)(self.c(), &mut raw) };
+        let status = unsafe { self.raw_get_fmu_state(&mut raw) };
         (status, (!raw.is_null()).then_some(FmuState { ptr: raw }))
     }
 
     /// `fmi2GetFMUstate` overwriting an existing state (`*FMUstate != NULL` on entry).
     pub fn update_fmu_state(&mut self, state: &mut FmuState) -> Status {
         // SAFETY: valid in/out pointer.
-        unsafe { (self.f().get_fmu_state)(self.c(), &mut state.ptr) }
+        unsafe { self.raw_get_fmu_state(&mut state.ptr) }
+    }
+
+    /// # Safety
+    /// `state` is a valid in/out pointer.
+    unsafe fn raw_get_fmu_state(&mut self, state: *mut FmuStatePtr) -> Status {
+        match self.api() {
+            Api::Fmi2(f) => (f.get_fmu_state)(self.c(), state),
+            Api::Fmi3(f) => (f.get_fmu_state)(self.c(), state),
+        }
     }
 
     /// `fmi2SetFMUstate`.
     pub fn set_fmu_state(&mut self, state: &FmuState) -> Status {
         // SAFETY: the handle was produced by this FMU (or is a deliberate misuse, see from_raw).
-        unsafe { (self.f().set_fmu_state)(self.c(), state.ptr) }
+        unsafe {
+            match self.api() {
+                Api::Fmi2(f) => (f.set_fmu_state)(self.c(), state.ptr),
+                Api::Fmi3(f) => (f.set_fmu_state)(self.c(), state.ptr),
+            }
+        }
     }
 
     /// `fmi2FreeFMUstate` (consumes the handle).
     pub fn free_fmu_state(&mut self, state: FmuState) -> Status {
         let mut raw = state.ptr;
         // SAFETY: valid in/out pointer.
-        unsafe { (self.f().free_fmu_state)(self.c(), &mut raw) }
+        unsafe {
+            match self.api() {
+                Api::Fmi2(f) => (f.free_fmu_state)(self.c(), &mut raw),
+                Api::Fmi3(f) => (f.free_fmu_state)(self.c(), &mut raw),
+            }
+        }
     }
 
     /// `fmi2SerializedFMUstateSize`.
     pub fn serialized_fmu_state_size(&mut self, state: &FmuState) -> (Status, usize) {
         let mut size = 0usize;
         // SAFETY: valid out pointer.
-        let status =
-            unsafe { (self.f().serialized_fmu_state_size)(self.c(), state.ptr, &mut size) };
+        let status = unsafe {
+            match self.api() {
+                Api::Fmi2(f) => (f.serialized_fmu_state_size)(self.c(), state.ptr, &mut size),
+                Api::Fmi3(f) => (f.serialized_fmu_state_size)(self.c(), state.ptr, &mut size),
+            }
+        };
         (status, size)
     }
 
@@ -85,12 +108,15 @@ impl Instance {
         let mut bytes = vec![0u8; size];
         // SAFETY: the buffer holds `size` bytes.
         let status = unsafe {
-            (self.f().serialize_fmu_state)(
-                self.c(),
-                state.ptr,
-                bytes.as_mut_ptr().cast::<c_char>(),
-                size,
-            )
+            match self.api() {
+                Api::Fmi2(f) => (f.serialize_fmu_state)(
+                    self.c(),
+                    state.ptr,
+                    bytes.as_mut_ptr().cast::<c_char>(),
+                    size,
+                ),
+                Api::Fmi3(f) => (f.serialize_fmu_state)(self.c(), state.ptr, bytes.as_mut_ptr(), size),
+            }
         };
         (status, bytes)
     }
@@ -100,12 +126,15 @@ impl Instance {
         let mut raw: FmuStatePtr = ptr::null_mut();
         // SAFETY: the buffer holds bytes.len() bytes; valid out pointer.
         let status = unsafe {
-            (self.f().de_serialize_fmu_state)(
-                self.c(),
-                bytes.as_ptr().cast::<c_char>(),
-                bytes.len(),
-                &mut raw,
-            )
+            match self.api() {
+                Api::Fmi2(f) => (f.de_serialize_fmu_state)(
+                    self.c(),
+                    bytes.as_ptr().cast::<c_char>(),
+                    bytes.len(),
+                    &mut raw,
+                ),
+                Api::Fmi3(f) => (f.deserialize_fmu_state)(self.c(), bytes.as_ptr(), bytes.len(), &mut raw),
+            }
         };
         (status, (!raw.is_null()).then_some(FmuState { ptr: raw }))
     }

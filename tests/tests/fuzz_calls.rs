@@ -1,5 +1,9 @@
 //! Property test: whatever sequence of FMI calls a master makes, no FMU in dist/ crashes, hangs,
-//! returns an illegal status, fails silently, or stays damaged after fmi2Reset.
+//! returns an illegal status, fails silently, or stays damaged after fmi2Reset. Through the FMI
+//! 2.0 API (dist/*.fmu) and the FMI 3.0 API (dist/fmi3/*.fmu): the FMI 3.0 sequences use the fmi3
+//! functions (typed getters and setters with their value counts, fmi3UpdateDiscreteStates,
+//! fmi3DoStep with its output flags, adjoint derivatives, the functions of the capabilities these
+//! FMUs do not declare: clocks, configuration mode, Scheduled Execution's partitions, ...).
 //!
 //! Each case instantiates one FMU (Co-Simulation or Model Exchange, logging on or off, with or
 //! without memory callbacks) and makes 1-40 random calls: any fmi2 function, in any mode, with
@@ -10,23 +14,28 @@
 //! * the status is one of fmi2OK..fmi2Discard or fmi2Error (no fmi2Fatal: that would be a panic
 //!   inside a model; no out-of-range value);
 //! * every fmi2Error, fmi2Discard and fmi2Fatal came with a logger message of that status;
-//! * the call returned within `CALL_TIME_LIMIT` (a hang guard, not a speed claim).
+//! * the call returned within `CALL_TIME_LIMIT` (a hang guard, not a speed claim);
+//! * FMI 3.0: a call the standard does not allow where the instance is (its state as FMI 3.0's
+//!   state machine gives it, tracked by [`Oracle`] from the calls and their statuses) returns
+//!   fmi3Error.
 //!
 //! At the end the instance is reset and must then run its default experiment exactly (bit for
 //! bit) as a fresh instance does.
 //!
-//! `FUZZ_CASES` sets the total number of cases over all FMUs (default 10 000); `PROPTEST_SEED`
-//! -free: the runner's seed is fixed per FMU so a failure replays. The FMUs are fuzzed side by
-//! side, one thread per core (`FUZZ_THREADS` sets the count).
+//! `FUZZ_CASES` sets the total number of cases over all FMUs and both versions (default 10 000:
+//! half through each version); `PROPTEST_SEED`-free: the runner's seed is fixed per FMU and
+//! version so a failure replays. The FMUs are fuzzed side by side, one thread per core
+//! (`FUZZ_THREADS` sets the count). `FMI_VERSIONS` (`2`, `3`) restricts the versions (each then
+//! gets its half of the cases, as in the full run).
 
 use std::ffi::{c_char, c_int, CString};
 use std::ptr;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use fmi_host::dist::every_fmu;
-use fmi_host::ffi::{EventInfo, FmuStatePtr};
-use fmi_host::{Causality, Fmi2Type, Fmu, Instance, InstantiateOptions, Status, StatusKind, ValueReference, VariableType};
+use fmi_host::dist::{every_fmu_for, versions};
+use fmi_host::ffi::{EventInfo, Fmi3Functions, FmuStatePtr};
+use fmi_host::{Api, Causality, Fmi2Type, FmiVersion, Fmu, Instance, InstantiateOptions, Status, StatusKind, ValueReference, VariableType};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 
@@ -129,6 +138,24 @@ enum Damage {
     Random(Vec<u8>),
 }
 
+impl Damage {
+    /// Damages `bytes`; whether they are still intact.
+    fn apply(&self, bytes: &mut Vec<u8>) -> bool {
+        match self {
+            Damage::None => {}
+            Damage::FlipBit(i) if !bytes.is_empty() => {
+                let bit = i % (bytes.len() * 8);
+                bytes[bit / 8] ^= 1 << (bit % 8);
+            }
+            Damage::FlipBit(_) => {}
+            Damage::Truncate(n) => bytes.truncate(n % bytes.len().max(1)),
+            Damage::Append(extra) => bytes.extend_from_slice(extra),
+            Damage::Random(random) => *bytes = random.clone(),
+        }
+        matches!(self, Damage::None)
+    }
+}
+
 fn any_damage() -> impl Strategy<Value = Damage> {
     prop_oneof![
         2 => Just(Damage::None),
@@ -174,7 +201,35 @@ enum Call {
     CompletedIntegratorStep { no_set_prior: bool },
     /// The legal start (setup, enter, exit), so random calls also reach the stepping modes.
     Initialize,
+    // FMI 3.0 only.
+    /// fmi3Get/Set of a type these FMUs have no variable of: 0 Float32, 1 Int8, 2 UInt8,
+    /// 3 Int16, 4 UInt16, 5 UInt32, 6 Int64, 7 UInt64, 8 Binary.
+    OtherType { which: u8, set: bool, vrs: Vec<VrPick> },
+    /// fmi3GetFloat64 / fmi3SetFloat64 whose nValues is not nValueReferences (all scalars).
+    MismatchedCount { vrs: Vec<VrPick>, extra: u8, set: bool },
+    /// A function of a capability these FMUs do not declare (clocks, configuration mode,
+    /// evaluateDiscreteStates, event mode in Co-Simulation, per-element dependencies, model
+    /// partitions).
+    Unprovided(u8),
+    AdjointDerivative { unknowns: Vec<VrPick>, knowns: Vec<VrPick>, seeds: Vec<f64> },
+    /// fmi3GetNumberOfContinuousStates (0), fmi3GetNumberOfEventIndicators (1).
+    GetNumberOf(u8),
 }
+
+/// The functions [`Call::Unprovided`] picks from.
+const UNPROVIDED: [&str; 11] = [
+    "fmi3GetClock",
+    "fmi3SetClock",
+    "fmi3GetIntervalDecimal",
+    "fmi3EnterConfigurationMode",
+    "fmi3ExitConfigurationMode",
+    "fmi3EvaluateDiscreteStates",
+    "fmi3EnterStepMode",
+    "fmi3GetNumberOfVariableDependencies",
+    "fmi3ActivateModelPartition",
+    "fmi3SetClock (no values)",
+    "fmi3GetClock (no values)",
+];
 
 fn any_call() -> impl Strategy<Value = Call> {
     let reals = || proptest::collection::vec(any_real(), 0..4);
@@ -218,6 +273,53 @@ fn any_call() -> impl Strategy<Value = Call> {
     ]
 }
 
+/// A random FMI 3.0 call: the calls of FMI 2.0 that FMI 3.0 has too (with FMI 2.0's weights),
+/// `SetupExperiment` as the experiment the next fmi3EnterInitializationMode gets (FMI 3.0 has no
+/// fmi2SetupExperiment), and in place of fmi2CancelStep, fmi2Get*Status and
+/// fmi2SetRealInputDerivatives the functions FMI 3.0 adds.
+fn any_call3() -> impl Strategy<Value = Call> {
+    let reals = || proptest::collection::vec(any_real(), 0..4);
+    prop_oneof![
+        1 => (any::<bool>(), proptest::collection::vec(any_text(), 0..3), any::<bool>())
+            .prop_map(|(on, categories, null_array)| Call::SetDebugLogging { on, categories, null_array }),
+        1 => (proptest::option::of(any_real()), any_real(), proptest::option::of(any_real()))
+            .prop_map(|(tolerance, start, stop)| Call::SetupExperiment { tolerance, start, stop }),
+        1 => Just(Call::EnterInitializationMode),
+        1 => Just(Call::ExitInitializationMode),
+        1 => Just(Call::Terminate),
+        1 => Just(Call::Reset),
+        1 => (any_vrs(), any::<bool>()).prop_map(|(vrs, null_values)| Call::GetReal { vrs, null_values }),
+        1 => (any_vrs(), reals(), any::<bool>()).prop_map(|(vrs, values, null_values)| Call::SetReal { vrs, values, null_values }),
+        1 => any_vrs().prop_map(|vrs| Call::GetInteger { vrs }),
+        1 => (any_vrs(), proptest::collection::vec(any::<i32>(), 0..4)).prop_map(|(vrs, values)| Call::SetInteger { vrs, values }),
+        1 => any_vrs().prop_map(|vrs| Call::GetBoolean { vrs }),
+        1 => (any_vrs(), proptest::collection::vec(any::<c_int>(), 0..4)).prop_map(|(vrs, values)| Call::SetBoolean { vrs, values }),
+        1 => any_vrs().prop_map(|vrs| Call::GetString { vrs }),
+        1 => (any_vrs(), proptest::collection::vec(any_text(), 0..4)).prop_map(|(vrs, values)| Call::SetString { vrs, values }),
+        10 => (prop_oneof![6 => Just(When::Now), 1 => Just(When::Earlier), 1 => any_real().prop_map(When::Value)], any_step(), any::<bool>())
+            .prop_map(|(when, h, no_set_prior)| Call::DoStep { when, h, no_set_prior }),
+        1 => (0u8..9, any::<bool>(), any_vrs()).prop_map(|(which, set, vrs)| Call::OtherType { which, set, vrs }),
+        1 => (any_vrs(), 1u8..3, any::<bool>()).prop_map(|(vrs, extra, set)| Call::MismatchedCount { vrs, extra, set }),
+        1 => (0..UNPROVIDED.len() as u8).prop_map(Call::Unprovided),
+        1 => proptest::option::of(any_state()).prop_map(|into| Call::GetFmuState { into }),
+        1 => any_state().prop_map(Call::SetFmuState),
+        1 => any_state().prop_map(Call::FreeFmuState),
+        1 => (any_state(), any_damage()).prop_map(|(state, damage)| Call::SerializeAndRestore { state, damage }),
+        1 => (any_vrs(), any_vrs(), reals()).prop_map(|(unknowns, knowns, seeds)| Call::DirectionalDerivative { unknowns, knowns, seeds }),
+        1 => (any_vrs(), any_vrs(), reals()).prop_map(|(unknowns, knowns, seeds)| Call::AdjointDerivative { unknowns, knowns, seeds }),
+        1 => (any_vrs(), proptest::collection::vec(-1 as c_int..4, 0..4)).prop_map(|(vrs, orders)| Call::GetOutputDerivatives { vrs, orders }),
+        1 => Just(Call::EnterEventMode),
+        1 => Just(Call::NewDiscreteStates),
+        1 => Just(Call::EnterContinuousTimeMode),
+        1 => any_real().prop_map(Call::SetTime),
+        1 => (proptest::collection::vec(any_real(), 0..8), any::<bool>()).prop_map(|(values, null)| Call::SetContinuousStates { values, null }),
+        1 => (0u8..4, -1i8..2).prop_map(|(which, len_offset)| Call::GetRealArray { which, len_offset }),
+        1 => (0u8..2).prop_map(Call::GetNumberOf),
+        1 => any::<bool>().prop_map(|no_set_prior| Call::CompletedIntegratorStep { no_set_prior }),
+        4 => Just(Call::Initialize),
+    ]
+}
+
 /// One case: the instance's options and its calls.
 #[derive(Clone, Debug)]
 struct Case {
@@ -227,10 +329,14 @@ struct Case {
     calls: Vec<Call>,
 }
 
-fn any_case() -> impl Strategy<Value = Case> {
+fn any_case(version: FmiVersion) -> impl Strategy<Value = Case> {
+    let calls = match version {
+        FmiVersion::Fmi2 => any_call().boxed(),
+        FmiVersion::Fmi3 => any_call3().boxed(),
+    };
     // Half the cases start with a legal initialization, so the random calls also hit the
     // stepping modes in depth, not only the refusals before initialization.
-    (any::<bool>(), any::<bool>(), prop_oneof![4 => Just(true), 1 => Just(false)], any::<bool>(), proptest::collection::vec(any_call(), 1..40))
+    (any::<bool>(), any::<bool>(), prop_oneof![4 => Just(true), 1 => Just(false)], any::<bool>(), proptest::collection::vec(calls, 1..40))
         .prop_map(|(model_exchange, logging_on, memory_callbacks, initialized_first, mut calls)| {
             if initialized_first {
                 calls.insert(0, Call::Initialize);
@@ -246,6 +352,8 @@ struct Target {
     n_states: usize,
     n_event_indicators: usize,
     outputs: Vec<ValueReference>,
+    /// FMI 3.0: the independent variable `time` (read after fmi3SetFMUState).
+    time: Option<ValueReference>,
     start: f64,
     step: f64,
 }
@@ -265,6 +373,7 @@ impl Target {
                 .filter(|v| v.causality == Causality::Output && v.variable_type == VariableType::Real)
                 .map(|v| v.value_reference)
                 .collect(),
+            time: md.model_variables.iter().find(|v| v.causality == Causality::Independent).map(|v| v.value_reference),
             start: e.start_time.unwrap_or(0.0),
             step: e.step_size.unwrap(),
         }
@@ -282,8 +391,8 @@ impl Target {
         picks.iter().map(|p| self.vr(*p)).collect()
     }
 
-    fn name(&self) -> &str {
-        &self.fmu.model_description().model_name
+    fn name(&self) -> String {
+        format!("{} (FMI {})", self.fmu.model_description().model_name, self.fmu.fmi_version().text())
     }
 
     fn instantiate(&self, name: &str, model_exchange: bool, logging_on: bool, memory_callbacks: bool) -> Instance {
@@ -329,6 +438,9 @@ struct Run<'a> {
     time: f64,
     /// Every FMU-state handle handed out (freed ones stay, to be used again on purpose).
     states: Vec<FmuStatePtr>,
+    /// FMI 3.0: (tolerance, start, stop) of the last `SetupExperiment`, for the next
+    /// fmi3EnterInitializationMode.
+    experiment: (Option<f64>, f64, Option<f64>),
 }
 
 fn text(bytes: &[u8]) -> CString {
@@ -345,8 +457,16 @@ impl Run<'_> {
         }
     }
 
-    /// Makes one call; returns its status.
+    /// Makes one call through the FMU's API; returns its status.
     fn call(&mut self, call: &Call) -> Status {
+        match self.target.fmu.api() {
+            Api::Fmi2(_) => self.call2(call),
+            Api::Fmi3(f) => self.call3(f, call),
+        }
+    }
+
+    /// Makes one FMI 2.0 call; returns its status.
+    fn call2(&mut self, call: &Call) -> Status {
         let t = self.target;
         let f = t.fmu.functions();
         let c = self.inst.raw_component();
@@ -560,6 +680,408 @@ impl Run<'_> {
                 }
                 s
             }
+            Call::OtherType { .. } | Call::MismatchedCount { .. } | Call::Unprovided(_) | Call::AdjointDerivative { .. } | Call::GetNumberOf(_) => {
+                unreachable!("FMI 3.0 calls are not generated for FMI 2.0: {call:?}")
+            }
+        }
+    }
+
+    /// Makes one FMI 3.0 call; returns its status.
+    fn call3(&mut self, f: &Fmi3Functions, call: &Call) -> Status {
+        let t = self.target;
+        let c = self.inst.raw_component();
+        let b = |v: bool| v as u8;
+        // SAFETY (every unsafe block below): as in `call2`. Value arrays are as long as the
+        // larger of nValueReferences and nValues, so a count the FMU trusts never overruns.
+        match call {
+            Call::SetDebugLogging { on, categories, null_array } => {
+                let owned: Vec<CString> = categories.iter().map(|b| text(b)).collect();
+                let raw: Vec<*const c_char> = owned.iter().map(|s| s.as_ptr()).collect();
+                let array = if *null_array { ptr::null() } else { raw.as_ptr() };
+                unsafe { (f.set_debug_logging)(c, b(*on), raw.len(), array) }
+            }
+            Call::SetupExperiment { tolerance, start, stop } => {
+                // FMI 3.0 has no fmi2SetupExperiment: the next fmi3EnterInitializationMode gets it.
+                self.experiment = (*tolerance, *start, *stop);
+                Status::OK
+            }
+            Call::EnterInitializationMode => {
+                let (tolerance, start, stop) = self.experiment;
+                unsafe { (f.enter_initialization_mode)(c, b(tolerance.is_some()), tolerance.unwrap_or(0.0), start, b(stop.is_some()), stop.unwrap_or(0.0)) }
+            }
+            Call::ExitInitializationMode => unsafe { (f.exit_initialization_mode)(c) },
+            Call::Terminate => unsafe { (f.terminate)(c) },
+            Call::Reset => {
+                let s = unsafe { (f.reset)(c) };
+                if s == Status::OK {
+                    self.time = 0.0;
+                }
+                s
+            }
+            Call::GetReal { vrs, null_values } => {
+                let vrs = t.vrs(vrs);
+                let mut v = vec![0.0; vrs.len()];
+                let out = if *null_values && !vrs.is_empty() { ptr::null_mut() } else { v.as_mut_ptr() };
+                unsafe { (f.get_float64)(c, vrs.as_ptr(), vrs.len(), out, vrs.len()) }
+            }
+            Call::SetReal { vrs, values, null_values } => {
+                let vrs = t.vrs(vrs);
+                let n = vrs.len().min(values.len());
+                let input = if *null_values && n > 0 { ptr::null() } else { values.as_ptr() };
+                unsafe { (f.set_float64)(c, vrs.as_ptr(), n, input, n) }
+            }
+            Call::GetInteger { vrs } => {
+                let vrs = t.vrs(vrs);
+                let mut v = vec![0; vrs.len()];
+                unsafe { (f.get_int32)(c, vrs.as_ptr(), vrs.len(), v.as_mut_ptr(), vrs.len()) }
+            }
+            Call::SetInteger { vrs, values } => {
+                let vrs = t.vrs(vrs);
+                let n = vrs.len().min(values.len());
+                unsafe { (f.set_int32)(c, vrs.as_ptr(), n, values.as_ptr(), n) }
+            }
+            Call::GetBoolean { vrs } => {
+                let vrs = t.vrs(vrs);
+                let mut v = vec![0u8; vrs.len()];
+                unsafe { (f.get_boolean)(c, vrs.as_ptr(), vrs.len(), v.as_mut_ptr(), vrs.len()) }
+            }
+            Call::SetBoolean { vrs, values } => {
+                // C bool: any byte the master passes (FMI 2.0's fmi2Boolean was an int).
+                let vrs = t.vrs(vrs);
+                let bytes: Vec<u8> = values.iter().map(|v| *v as u8).collect();
+                let n = vrs.len().min(bytes.len());
+                unsafe { (f.set_boolean)(c, vrs.as_ptr(), n, bytes.as_ptr(), n) }
+            }
+            Call::GetString { vrs } => {
+                let vrs = t.vrs(vrs);
+                let mut v: Vec<*const c_char> = vec![ptr::null(); vrs.len()];
+                unsafe { (f.get_string)(c, vrs.as_ptr(), vrs.len(), v.as_mut_ptr(), vrs.len()) }
+            }
+            Call::SetString { vrs, values } => {
+                let vrs = t.vrs(vrs);
+                let owned: Vec<CString> = values.iter().map(|b| text(b)).collect();
+                let raw: Vec<*const c_char> = owned.iter().map(|s| s.as_ptr()).collect();
+                let n = vrs.len().min(raw.len());
+                unsafe { (f.set_string)(c, vrs.as_ptr(), n, raw.as_ptr(), n) }
+            }
+            Call::OtherType { which, set, vrs } => {
+                let vrs = t.vrs(vrs);
+                let n = vrs.len();
+                if *which as usize >= f.other_types.len() {
+                    // Binary.
+                    let mut sizes = vec![0usize; n];
+                    let mut data: Vec<*const u8> = vec![ptr::null(); n];
+                    return unsafe {
+                        if *set {
+                            (f.set_binary)(c, vrs.as_ptr(), n, sizes.as_ptr(), data.as_ptr(), n)
+                        } else {
+                            (f.get_binary)(c, vrs.as_ptr(), n, sizes.as_mut_ptr(), data.as_mut_ptr(), n)
+                        }
+                    };
+                }
+                let (_, get, set_fn, size) = f.other_types[*which as usize];
+                let mut buffer = vec![0u64; (n * size).div_ceil(8).max(1)];
+                unsafe {
+                    if *set {
+                        set_fn(c, vrs.as_ptr(), n, buffer.as_ptr().cast(), n)
+                    } else {
+                        get(c, vrs.as_ptr(), n, buffer.as_mut_ptr().cast(), n)
+                    }
+                }
+            }
+            Call::MismatchedCount { vrs, extra, set } => {
+                let vrs = t.vrs(vrs);
+                let n_values = vrs.len() + *extra as usize;
+                let mut values = vec![0.0; n_values];
+                unsafe {
+                    if *set {
+                        (f.set_float64)(c, vrs.as_ptr(), vrs.len(), values.as_ptr(), n_values)
+                    } else {
+                        (f.get_float64)(c, vrs.as_ptr(), vrs.len(), values.as_mut_ptr(), n_values)
+                    }
+                }
+            }
+            Call::Unprovided(which) => {
+                let vr = [0 as ValueReference];
+                let (mut flag, mut real, mut qualifier, mut count) = (0u8, 0.0f64, 0 as c_int, 0usize);
+                unsafe {
+                    match which {
+                        0 => (f.get_clock)(c, vr.as_ptr(), 1, &mut flag),
+                        1 => (f.set_clock)(c, vr.as_ptr(), 1, &flag),
+                        2 => (f.get_interval_decimal)(c, vr.as_ptr(), 1, &mut real, &mut qualifier),
+                        3 => (f.enter_configuration_mode)(c),
+                        4 => (f.exit_configuration_mode)(c),
+                        5 => (f.evaluate_discrete_states)(c),
+                        6 => (f.enter_step_mode)(c),
+                        7 => (f.get_number_of_variable_dependencies)(c, 0, &mut count),
+                        8 => (f.activate_model_partition.expect("exported by these FMUs"))(c, 0, 0.0),
+                        9 => (f.set_clock)(c, vr.as_ptr(), 0, &flag),
+                        _ => (f.get_clock)(c, vr.as_ptr(), 0, &mut flag),
+                    }
+                }
+            }
+            Call::DoStep { when, h, no_set_prior } => {
+                let at = match when {
+                    When::Now => self.time,
+                    When::Earlier => self.time - 1.0,
+                    When::Value(v) => *v,
+                };
+                let (mut event, mut terminate, mut early, mut last) = (2u8, 2u8, 2u8, f64::NAN);
+                let s = unsafe { (f.do_step)(c, at, *h, b(*no_set_prior), &mut event, &mut terminate, &mut early, &mut last) };
+                if s == Status::OK {
+                    self.time = at + h;
+                    // These FMUs handle events inside the step and never return early: an OK
+                    // step says so, and its lastSuccessfulTime is its end.
+                    if (event, terminate, early) != (0, 0, 0) || last != at + h {
+                        return Status(-2);
+                    }
+                }
+                s
+            }
+            Call::GetFmuState { into } => {
+                let mut state = into.map(|p| self.state(p)).unwrap_or(ptr::null_mut());
+                let s = unsafe { (f.get_fmu_state)(c, &mut state) };
+                if s == Status::OK && !state.is_null() && !self.states.contains(&state) {
+                    self.states.push(state);
+                }
+                s
+            }
+            Call::SetFmuState(pick) => {
+                let s = unsafe { (f.set_fmu_state)(c, self.state(*pick)) };
+                if s == Status::OK {
+                    // The instance's time is now the saved one: read the independent variable.
+                    let mut now = 0.0;
+                    if let Some(vr) = t.time {
+                        if unsafe { (f.get_float64)(c, &vr, 1, &mut now, 1) } == Status::OK {
+                            self.time = now;
+                        }
+                    }
+                }
+                s
+            }
+            Call::FreeFmuState(pick) => {
+                let mut state = self.state(*pick);
+                unsafe { (f.free_fmu_state)(c, &mut state) }
+            }
+            Call::SerializeAndRestore { state, damage } => {
+                let state = self.state(*state);
+                let mut size = 0usize;
+                let s = unsafe { (f.serialized_fmu_state_size)(c, state, &mut size) };
+                if s != Status::OK {
+                    return s;
+                }
+                let mut bytes = vec![0u8; size];
+                let s = unsafe { (f.serialize_fmu_state)(c, state, bytes.as_mut_ptr(), size) };
+                if s != Status::OK {
+                    return s;
+                }
+                let intact = damage.apply(&mut bytes);
+                let mut restored: FmuStatePtr = ptr::null_mut();
+                let s = unsafe { (f.deserialize_fmu_state)(c, bytes.as_ptr(), bytes.len(), &mut restored) };
+                if !intact && s != Status::ERROR {
+                    return Status(-1);
+                }
+                if s == Status::OK && !restored.is_null() {
+                    self.states.push(restored);
+                }
+                s
+            }
+            Call::DirectionalDerivative { unknowns, knowns, seeds } | Call::AdjointDerivative { unknowns, knowns, seeds } => {
+                let (unknowns, knowns) = (t.vrs(unknowns), t.vrs(knowns));
+                let adjoint = matches!(call, Call::AdjointDerivative { .. });
+                // The seed has one value per known (per unknown for the adjoint), the
+                // sensitivity one per unknown (per known): counts that disagree must be refused.
+                let (n_seed, n_sensitivity) = if adjoint { (unknowns.len(), knowns.len()) } else { (knowns.len(), unknowns.len()) };
+                let n_seed = n_seed.min(seeds.len());
+                let mut seed = seeds.clone();
+                seed.resize(n_seed.max(seeds.len()), 0.0);
+                let mut out = vec![0.0; n_sensitivity];
+                let function = if adjoint { f.get_adjoint_derivative } else { f.get_directional_derivative };
+                unsafe { function(c, unknowns.as_ptr(), unknowns.len(), knowns.as_ptr(), knowns.len(), seed.as_ptr(), n_seed, out.as_mut_ptr(), n_sensitivity) }
+            }
+            Call::GetOutputDerivatives { vrs, orders } => {
+                let vrs = t.vrs(vrs);
+                let n = vrs.len().min(orders.len());
+                let mut out = vec![0.0; n];
+                unsafe { (f.get_output_derivatives)(c, vrs.as_ptr(), n, orders.as_ptr(), out.as_mut_ptr(), n) }
+            }
+            Call::EnterEventMode => unsafe { (f.enter_event_mode)(c) },
+            Call::NewDiscreteStates => {
+                let mut flags = [0u8; 5];
+                let mut next = 0.0;
+                let [a, b2, c2, d, e] = &mut flags;
+                unsafe { (f.update_discrete_states)(c, a, b2, c2, d, e, &mut next) }
+            }
+            Call::EnterContinuousTimeMode => unsafe { (f.enter_continuous_time_mode.expect("ME function"))(c) },
+            Call::SetTime(time) => unsafe { (f.set_time.expect("ME function"))(c, *time) },
+            Call::SetContinuousStates { values, null } => {
+                let p = if *null && !values.is_empty() { ptr::null() } else { values.as_ptr() };
+                unsafe { (f.set_continuous_states.expect("ME function"))(c, p, values.len()) }
+            }
+            Call::GetRealArray { which, len_offset } => {
+                let (function, n) = match which {
+                    0 => (f.get_continuous_state_derivatives, t.n_states),
+                    1 => (f.get_event_indicators, t.n_event_indicators),
+                    2 => (f.get_continuous_states, t.n_states),
+                    _ => (f.get_nominals_of_continuous_states, t.n_states),
+                };
+                let n = (n as i64 + *len_offset as i64).max(0) as usize;
+                let mut out = vec![0.0; n];
+                unsafe { (function.expect("ME function"))(c, out.as_mut_ptr(), n) }
+            }
+            Call::GetNumberOf(which) => {
+                let (function, expected) = if *which == 0 {
+                    (f.get_number_of_continuous_states, t.n_states)
+                } else {
+                    (f.get_number_of_event_indicators, t.n_event_indicators)
+                };
+                let mut n = usize::MAX;
+                let s = unsafe { (function.expect("ME function"))(c, &mut n) };
+                if s == Status::OK && n != expected {
+                    return Status(-3);
+                }
+                s
+            }
+            Call::CompletedIntegratorStep { no_set_prior } => {
+                let (mut enter, mut terminate) = (0u8, 0u8);
+                unsafe { (f.completed_integrator_step.expect("ME function"))(c, b(*no_set_prior), &mut enter, &mut terminate) }
+            }
+            Call::Initialize => {
+                let mut s = self.inst.setup_experiment(None, t.start, None);
+                if s == Status::OK {
+                    s = self.inst.enter_initialization_mode();
+                }
+                if s == Status::OK {
+                    s = self.inst.exit_initialization_mode();
+                }
+                if s == Status::OK {
+                    self.time = t.start;
+                }
+                s
+            }
+            Call::CancelStep | Call::GetStatus { .. } | Call::SetInputDerivatives { .. } => {
+                unreachable!("FMI 2.0 calls are not generated for FMI 3.0: {call:?}")
+            }
+        }
+    }
+}
+
+/// A state of FMI 3.0's state machine (sections 3.2 and 4.2 of the standard) these FMUs can be
+/// in: no clocks, no structural parameters, no event mode in Co-Simulation (eventModeUsed =
+/// false), so no Configuration, Reconfiguration, Clock Activation, Intermediate Update or
+/// Co-Simulation Event Mode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum State3 {
+    Instantiated,
+    InitializationMode,
+    StepMode,
+    EventMode,
+    ContinuousTimeMode,
+    Terminated,
+}
+
+/// What the FMI 3.0 standard says about the next call: the instance's state, followed through
+/// the calls and their statuses, and the calls the standard does not allow there. `state` is
+/// `None` where the standard leaves the state to the FMU: after fmi3Error or fmi3Discard of an
+/// allowed call (only fmi3Get*, fmi3Reset and fmi3FreeInstance are defined then) and after
+/// fmi3SetFMUState. The rules are the standard's, not this FMU's table (fmu-runtime's
+/// fmi3/states.rs); where the standard's tables leave room (fmi3GetNominalsOfContinuousStates
+/// in Initialization Mode, fmi3SetContinuousStates in Event Mode, the FMU-state functions, ...)
+/// no rule is checked.
+struct Oracle {
+    model_exchange: bool,
+    state: Option<State3>,
+    /// How many calls it said must be refused (all were).
+    refusals: u64,
+}
+
+impl Oracle {
+    fn new(model_exchange: bool) -> Oracle {
+        Oracle { model_exchange, state: Some(State3::Instantiated), refusals: 0 }
+    }
+
+    /// Why the standard does not allow `call` here (it must then return fmi3Error), if it does not.
+    fn forbids(&self, call: &Call) -> Option<String> {
+        use State3::*;
+        let me = self.model_exchange;
+        // Whatever the state: functions of an interface the instance was not made for, or of a
+        // capability the description does not declare.
+        let model_exchange_only = matches!(
+            call,
+            Call::EnterEventMode
+                | Call::NewDiscreteStates
+                | Call::EnterContinuousTimeMode
+                | Call::SetTime(_)
+                | Call::SetContinuousStates { .. }
+                | Call::GetRealArray { .. }
+                | Call::CompletedIntegratorStep { .. }
+        );
+        if !me && model_exchange_only {
+            return Some("a Model Exchange function on a Co-Simulation instance (eventModeUsed = false)".into());
+        }
+        if me && matches!(call, Call::DoStep { .. } | Call::GetOutputDerivatives { .. }) {
+            return Some("a Co-Simulation function on a Model Exchange instance".into());
+        }
+        if let Call::Unprovided(which) = call {
+            return Some(format!("{}: a capability modelDescription.xml does not declare", UNPROVIDED[*which as usize]));
+        }
+        if let Call::OtherType { which, vrs, .. } = call {
+            if !vrs.is_empty() {
+                return Some(format!("type {which} (Float32..UInt64, Binary): no variable has it"));
+            }
+        }
+        if let Call::MismatchedCount { vrs, .. } = call {
+            if vrs.iter().all(|v| matches!(v, VrPick::Existing(_))) && !vrs.is_empty() {
+                return Some("nValues differs from nValueReferences for scalar variables".into());
+            }
+        }
+        let state = self.state?;
+        let not = |allowed: &[State3]| (!allowed.contains(&state)).then(|| format!("not allowed in {state:?}"));
+        let not_in = |forbidden: &[State3]| forbidden.contains(&state).then(|| format!("not allowed in {state:?}"));
+        match call {
+            Call::EnterInitializationMode | Call::Initialize => not(&[Instantiated]),
+            Call::ExitInitializationMode => not(&[InitializationMode]),
+            Call::Terminate => not_in(&[Instantiated, InitializationMode, Terminated]),
+            Call::DoStep { .. } => not(&[StepMode]),
+            Call::GetReal { .. } | Call::GetInteger { .. } | Call::GetBoolean { .. } | Call::GetString { .. } => not_in(&[Instantiated]),
+            Call::OtherType { set: false, .. } | Call::MismatchedCount { set: false, .. } => not_in(&[Instantiated]),
+            Call::SetReal { .. } | Call::SetInteger { .. } | Call::SetBoolean { .. } | Call::SetString { .. } => not_in(&[Terminated]),
+            Call::OtherType { set: true, .. } | Call::MismatchedCount { set: true, .. } => not_in(&[Terminated]),
+            Call::DirectionalDerivative { .. } | Call::AdjointDerivative { .. } | Call::GetOutputDerivatives { .. } => not_in(&[Instantiated]),
+            Call::EnterEventMode | Call::SetTime(_) | Call::SetContinuousStates { .. } => not_in(&[Instantiated, InitializationMode, Terminated]),
+            Call::NewDiscreteStates | Call::EnterContinuousTimeMode => not(&[EventMode]),
+            Call::CompletedIntegratorStep { .. } => not(&[ContinuousTimeMode]),
+            Call::GetRealArray { which: 0..=2, .. } => not_in(&[Instantiated]),
+            _ => None,
+        }
+    }
+
+    /// The state after `call` returned `status` (`refused`: the oracle had forbidden it).
+    fn after(&mut self, call: &Call, status: Status, refused: bool) {
+        use State3::*;
+        if refused {
+            // An illegal call that was refused leaves the instance where it was.
+            self.refusals += 1;
+            return;
+        }
+        if matches!(call, Call::Reset) {
+            self.state = (status == Status::OK || status == Status::WARNING).then_some(Instantiated);
+            return;
+        }
+        if !(status == Status::OK || status == Status::WARNING) {
+            // An error or discard of an allowed call leaves the state to the FMU.
+            self.state = None;
+            return;
+        }
+        let initialized = if self.model_exchange { EventMode } else { StepMode };
+        match call {
+            Call::EnterInitializationMode => self.state = Some(InitializationMode),
+            Call::ExitInitializationMode | Call::Initialize => self.state = Some(initialized),
+            Call::Terminate => self.state = Some(Terminated),
+            Call::EnterEventMode => self.state = Some(EventMode),
+            Call::EnterContinuousTimeMode => self.state = Some(ContinuousTimeMode),
+            Call::SetFmuState(_) => self.state = None,
+            _ => {}
         }
     }
 }
@@ -572,13 +1094,19 @@ struct Tally {
     steps_ok: u64,
     errors: u64,
     discards: u64,
+    /// FMI 3.0: calls the oracle said the standard forbids there (each refused).
+    forbidden: u64,
 }
 
 fn run_case(target: &Target, case: &Case, reference: &[Vec<u64>; 2], tally: &mut Tally) -> Result<(), TestCaseError> {
     let inst = target.instantiate("fuzzed", case.model_exchange, case.logging_on, case.memory_callbacks);
-    let mut run = Run { target, inst, time: 0.0, states: Vec::new() };
+    let version = target.fmu.fmi_version();
+    let mut run = Run { target, inst, time: 0.0, states: Vec::new(), experiment: (None, 0.0, None) };
+    let mut oracle = (version == FmiVersion::Fmi3).then(|| Oracle::new(case.model_exchange));
     for (i, call) in case.calls.iter().enumerate() {
         let mark = run.inst.log().len();
+        let forbidden = oracle.as_ref().and_then(|o| o.forbids(call));
+        let state_before = oracle.as_ref().map(|o| o.state);
         let started = Instant::now();
         let status = run.call(call);
         let took = started.elapsed();
@@ -597,7 +1125,21 @@ fn run_case(target: &Target, case: &Case, reference: &[Vec<u64>; 2], tally: &mut
         let context = || format!("{}: call {i} {call:?}", target.name());
         prop_assert!(took < CALL_TIME_LIMIT, "{}: took {took:?} (hang guard)", context());
         prop_assert!(status != Status(-1), "{}: damaged serialized bytes were not refused with fmi2Error", context());
+        prop_assert!(status != Status(-2), "{}: fmi3DoStep returned OK with eventHandlingNeeded, terminateSimulation or earlyReturn set, or a lastSuccessfulTime that is not the step's end", context());
+        prop_assert!(status != Status(-3), "{}: fmi3GetNumberOf* disagrees with modelDescription.xml", context());
         prop_assert!(matches!(status.0, 0..=3), "{}: status {status:?} (fmi2Fatal means a model panicked)", context());
+        if let Some(why) = &forbidden {
+            prop_assert!(
+                status == Status::ERROR,
+                "{}: returned {status:?} where FMI 3.0 does not allow the call ({why}; state {:?})",
+                context(),
+                state_before.flatten()
+            );
+            tally.forbidden += 1;
+        }
+        if let Some(o) = oracle.as_mut() {
+            o.after(call, status, forbidden.is_some());
+        }
         if matches!(status, Status::ERROR | Status::DISCARD) {
             prop_assert!(
                 run.inst.log().has_status_since(mark, status),
@@ -614,9 +1156,10 @@ fn run_case(target: &Target, case: &Case, reference: &[Vec<u64>; 2], tally: &mut
     Ok(())
 }
 
-/// One FMU's share of the cases, with its own fixed seed (index `n` in dist/'s order): its report
-/// line, or the failure.
+/// One FMU's share of the cases, with its own fixed seed (index `n` in dist/'s order, and its FMI
+/// version): its report line, or the failure.
 fn fuzz_one(n: usize, fmu: &Arc<Fmu>, per_fmu: u32) -> Result<String, String> {
+    let version = fmu.fmi_version();
     let target = Target::of(fmu);
     let reference = [false, true].map(|me| {
         let mut fresh = target.instantiate("fresh", me, false, true);
@@ -627,16 +1170,19 @@ fn fuzz_one(n: usize, fmu: &Arc<Fmu>, per_fmu: u32) -> Result<String, String> {
     let mut seed = [0u8; 32];
     seed[0] = n as u8;
     seed[1..9].copy_from_slice(&0x5eed_f00d_u64.to_le_bytes());
+    // Other sequences through the other version (FMI 2.0 keeps the seeds it always had).
+    seed[9] = if version == FmiVersion::Fmi3 { 3 } else { 0 };
     let mut runner = TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &seed));
     let tally = std::cell::RefCell::new(Tally::default());
     let started = Instant::now();
-    let result = runner.run(&any_case(), |case| run_case(&target, &case, &reference, &mut tally.borrow_mut()));
+    let result = runner.run(&any_case(version), |case| run_case(&target, &case, &reference, &mut tally.borrow_mut()));
     if let Err(e) = result {
         return Err(format!("{}: {e}", target.name()));
     }
     let t = tally.into_inner();
+    let forbidden = if version == FmiVersion::Fmi3 { format!(" ({} forbidden by FMI 3.0 where called)", t.forbidden) } else { String::new() };
     Ok(format!(
-        "  {:<22} {per_fmu} sequences, {} calls: {} fmi2OK ({} doSteps), {} fmi2Error, {} fmi2Discard; {:.1} s",
+        "  {:<30} {per_fmu} sequences, {} calls: {} OK ({} doSteps), {} Error{forbidden}, {} Discard; {:.1} s",
         target.name(),
         t.calls,
         t.ok,
@@ -649,9 +1195,14 @@ fn fuzz_one(n: usize, fmu: &Arc<Fmu>, per_fmu: u32) -> Result<String, String> {
 
 #[test]
 fn random_call_sequences_never_crash_hang_or_fail_silently() {
-    let fmus = every_fmu();
+    // (index in its version's dist folder, FMU): FMI 2.0's, then FMI 3.0's.
+    let fmus: Vec<(usize, Arc<Fmu>)> = versions().into_iter().flat_map(|v| every_fmu_for(v).into_iter().enumerate()).collect();
     let total: u32 = std::env::var("FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(10_000);
-    let per_fmu = total.div_ceil(fmus.len() as u32);
+    // The total is split between the two versions (half each, also when FMI_VERSIONS picks one),
+    // so testing both APIs takes the time testing one did.
+    let per_version = total.div_ceil(2);
+    let fmus_per_version = fmus.iter().filter(|(_, f)| f.fmi_version() == fmus[0].1.fmi_version()).count() as u32;
+    let per_fmu = per_version.div_ceil(fmus_per_version);
     // The FMUs are fuzzed side by side, one thread per core taking the next FMU (instances share
     // nothing: tests/tests/threads.rs); each FMU's cases and seed are the same as one at a time.
     // FUZZ_THREADS overrides the count (tests/valgrind.sh, under which threads only interleave, sets 1).
@@ -665,8 +1216,8 @@ fn random_call_sequences_never_crash_hang_or_fail_silently() {
                     let mut done = Vec::new();
                     loop {
                         let n = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(fmu) = fmus.get(n) else { break };
-                        done.push((n, fuzz_one(n, fmu, per_fmu)));
+                        let Some((index, fmu)) = fmus.get(n) else { break };
+                        done.push((n, fuzz_one(*index, fmu, per_fmu)));
                     }
                     done
                 })
@@ -697,7 +1248,7 @@ fn any_corruption() -> impl Strategy<Value = (Vec<usize>, Option<usize>)> {
 fn corrupted_serialized_states_are_refused() {
     const CASES: u32 = 1000;
     let mut report = Vec::new();
-    for fmu in every_fmu() {
+    for fmu in versions().into_iter().flat_map(every_fmu_for) {
         let target = Target::of(&fmu);
         let mut inst = target.instantiate("source", false, false, true);
         target.reference_run(&mut inst, false).unwrap_or_else(|e| panic!("{}: {e}", target.name()));
@@ -708,7 +1259,8 @@ fn corrupted_serialized_states_are_refused() {
         let receiver = std::cell::RefCell::new(target.instantiate("receiver", false, false, true));
         let mut runner = TestRunner::new_with_rng(
             Config { cases: CASES, failure_persistence: None, ..Config::default() },
-            TestRng::from_seed(RngAlgorithm::ChaCha, &[7u8; 32]),
+            // FMI 2.0 keeps its seed; FMI 3.0 gets other damages.
+            TestRng::from_seed(RngAlgorithm::ChaCha, &[if fmu.fmi_version() == FmiVersion::Fmi3 { 8u8 } else { 7u8 }; 32]),
         );
         let result = runner.run(&any_corruption(), |(flips, cut)| {
             let mut bytes = valid.clone();
@@ -736,7 +1288,7 @@ fn corrupted_serialized_states_are_refused() {
         // The intact bytes still load: the refusals were about the damage.
         let (status, _) = receiver.borrow_mut().deserialize_fmu_state(&valid);
         assert_eq!(status, Status::OK, "{}", target.name());
-        report.push(format!("  {:<22} {CASES} damaged copies of a {}-byte state refused", target.name(), valid.len()));
+        report.push(format!("  {:<30} {CASES} damaged copies of a {}-byte state refused", target.name(), valid.len()));
     }
     println!("corrupted serialized states:\n{}", report.join("\n"));
 }

@@ -1,4 +1,4 @@
-//! Concurrency: 16 instances of every FMU in dist/, each on its own thread with its own
+//! Concurrency: 16 instances of every FMU in dist/ (FMI 2.0) and dist/fmi3/ (FMI 3.0), each on its own thread with its own
 //! parameter value, run the FMU's default experiment (at most 10 s of simulated time) at the same
 //! time, and each result is bit-identical to the same instance run alone on the main thread. Instances share nothing (no global state,
 //! no shared solver), so threads cannot disturb one another.
@@ -6,7 +6,7 @@
 use std::sync::{Arc, Barrier};
 use std::thread;
 
-use fmi_host::dist::every_fmu;
+use fmi_host::dist::every_fmu_of_every_version as every_fmu;
 use fmi_host::{Causality, Fmu, ScalarVariable, Status, ValueReference, VariableType};
 
 const THREADS: usize = 16;
@@ -84,7 +84,7 @@ fn run(fmu: &Arc<Fmu>, parameter: Option<&ScalarVariable>, k: usize) -> Vec<u64>
 #[test]
 fn sixteen_threads_per_fmu_match_the_single_threaded_runs() {
     for fmu in every_fmu() {
-        let name = fmu.model_description().model_name.clone();
+        let name = format!("{} {}", fmu.model_description().model_name, fmu.fmi_version().text());
         // The parameter the threads vary: the first candidate that changes the outputs (so a
         // mix-up between threads would show).
         let first = run(&fmu, None, 0);
@@ -109,7 +109,7 @@ fn sixteen_threads_per_fmu_match_the_single_threaded_runs() {
         }
         assert!(parameter.is_some(), "{name}: no parameter changes the outputs over {} s", simulated_seconds(&fmu));
         println!(
-            "  {name:<22} {THREADS} threads x {} s, {} output values each, varying {}: identical",
+            "  {name:<26} {THREADS} threads x {} s, {} output values each, varying {}: identical",
             simulated_seconds(&fmu),
             alone[0].len(),
             parameter.map_or("nothing", |p| p.name.as_str())

@@ -47,6 +47,31 @@ impl Extra {
         let first_indicator = table.variables.len() as u32;
         Extra { first_indicator, time: first_indicator + table.indicators.len() as u32 }
     }
+
+    /// The name of an added variable, if `vr` is one.
+    pub fn name(&self, table: &VariableTable, vr: u32) -> Option<String> {
+        match vr {
+            v if v == self.time => Some("time".into()),
+            v if (self.first_indicator..self.time).contains(&v) => {
+                Some(format!("event_indicator.{}", table.indicators[(v - self.first_indicator) as usize].0))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// Refuses the description's added variables (time, the event indicators) where only the
+/// model's own variables can go, naming them: they are read with fmi3GetFloat64 only (time is
+/// set with fmi3SetTime or by stepping; this FMU gives no partial derivatives of event
+/// indicators).
+fn model_variables_only(table: &VariableTable, vrs: &[u32], what: &str) -> CallResult {
+    let extra = Extra::of(table);
+    match vrs.iter().find_map(|vr| extra.name(table, *vr)) {
+        Some(name) => Err(Failure::error(format!(
+            "'{name}' cannot be {what}: the FMI 3.0 description adds it to read it with fmi3GetFloat64 only"
+        ))),
+        None => Ok(()),
+    }
 }
 
 pub fn get_version() -> *const std::os::raw::c_char {
@@ -169,6 +194,7 @@ unsafe fn set_values<M: Model, T: FmiValue>(c: fmi3Instance, name: &str, vr: *co
     with::<M>(c, Function::Set, name, |comp| {
         scalar_count(n, n_values)?;
         let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        model_variables_only(comp.instance.table(), vrs, "set")?;
         comp.instance.set(vrs, vals.ok_or_else(|| null("the value array"))?)
     })
 }
@@ -196,7 +222,7 @@ pub unsafe fn get_float64<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReferen
                 }
                 v if v < extra.time => indicators[(v - extra.first_indicator) as usize],
                 v if v == extra.time => comp.instance.time(),
-                v => return Err(Failure::error(format!("unknown value reference {v} (this FMU has 0..={})", extra.time))),
+                v => return Err(Failure::error(format!("unknown value reference {v} (this FMU's FMI 3.0 description has 0..={})", extra.time))),
             };
         }
         Ok(())
@@ -206,6 +232,7 @@ pub unsafe fn get_float64<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReferen
 /// FMI 3.0 reads and sets an Enumeration with fmi3Get/SetInt64 and an Int32 with fmi3Get/SetInt32;
 /// both are Integer values in the core. Refuses a value reference of the other kind.
 fn integer_kind(table: &VariableTable, vrs: &[u32], enumeration: bool) -> CallResult {
+    model_variables_only(table, vrs, if enumeration { "read or set as an Enumeration" } else { "read or set as an Int32" })?;
     for vr in vrs {
         if let Some(v) = table.get(*vr).filter(|v| v.base_type() == crate::variables::BaseType::Integer) {
             match (v.items.is_empty(), enumeration) {
@@ -286,6 +313,7 @@ pub unsafe fn set_boolean<M: Model>(c: fmi3Instance, vr: *const fmi3ValueReferen
 pub unsafe fn no_such_type<M: Model>(c: fmi3Instance, name: &str, type_name: &str, set: bool, vr: *const fmi3ValueReference, n: usize) -> fmi3Status {
     with::<M>(c, if set { Function::Set } else { Function::Get }, name, |comp| {
         let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
+        model_variables_only(comp.instance.table(), vrs, &format!("read or set as a {type_name}"))?;
         match vrs.first() {
             None => Ok(()),
             Some(vr) if type_name == "String" => Err(Failure::error(no_string(comp.instance.table(), *vr))),
@@ -386,6 +414,8 @@ pub unsafe fn get_directional_derivative<M: Model>(
             )));
         }
         let (u, k, s, out) = derivative_arrays(unknowns, n_unknowns, knowns, n_knowns, seed, n_seed, sensitivity, n_sensitivity)?;
+        model_variables_only(comp.instance.table(), u, "an unknown of a partial derivative")?;
+        model_variables_only(comp.instance.table(), k, "a known of a partial derivative")?;
         comp.instance.directional_derivative(u, k, s, out)
     })
 }
@@ -410,6 +440,8 @@ pub unsafe fn get_adjoint_derivative<M: Model>(
             )));
         }
         let (u, k, s, out) = derivative_arrays(unknowns, n_unknowns, knowns, n_knowns, seed, n_seed, sensitivity, n_sensitivity)?;
+        model_variables_only(comp.instance.table(), u, "an unknown of a partial derivative")?;
+        model_variables_only(comp.instance.table(), k, "a known of a partial derivative")?;
         let (mut direction, mut column) = (vec![0.0; k.len()], vec![0.0; u.len()]);
         for j in 0..k.len() {
             direction.fill(0.0);
@@ -680,6 +712,9 @@ mod tests {
             assert_eq!(status, fmi3OK);
             assert!((column[0] + 2.0).abs() < 1e-8 && (column[1] - 2.0).abs() < 1e-8, "{column:?}");
             assert_eq!(not_provided::<Decay>(c, "fmi3GetClock", NO_CLOCKS), fmi3Error);
+            // time is the description's own: read only, and named when refused.
+            assert_eq!(set_float64::<Decay>(c, [time].as_ptr(), 1, [1.0].as_ptr(), 1), fmi3Error);
+            assert!(LOG.lock().unwrap().iter().any(|(_, m)| m.contains("'time' cannot be set")));
             free_instance::<Decay>(c);
         }
     }

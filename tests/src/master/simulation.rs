@@ -411,7 +411,9 @@ impl Simulation {
         let status = inst.set_real(&[link.to_vr], &[value]);
         check(inst, "fmi2SetReal", time, status)?;
         if let Some(slope) = slope {
-            let status = inst.set_real_input_derivatives(&[link.to_vr], &[1], &[slope]);
+            let status = inst
+                .set_real_input_derivatives(&[link.to_vr], &[1], &[slope])
+                .map_err(|source| MasterError::Host { instance: inst.name().to_owned(), source })?;
             check(inst, "fmi2SetRealInputDerivatives", time, status)?;
         }
         Ok(())
@@ -443,7 +445,9 @@ impl Simulation {
             let status = inst.get_real_output_derivatives(&[link.from_vr], &[1], &mut d);
             check(inst, "fmi2GetRealOutputDerivatives", time, status)?;
             let inst = &mut self.instances[link.to_instance];
-            let status = inst.set_real_input_derivatives(&[link.to_vr], &[1], &d);
+            let status = inst
+                .set_real_input_derivatives(&[link.to_vr], &[1], &d)
+                .map_err(|source| MasterError::Host { instance: inst.name().to_owned(), source })?;
             check(inst, "fmi2SetRealInputDerivatives", time, status)?;
             self.dy[j] = d[0];
         }
