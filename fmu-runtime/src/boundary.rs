@@ -208,7 +208,7 @@ pub unsafe fn c_str<'a>(p: *const c_char) -> Option<&'a str> {
 /// Why a value reference is no String variable (neither FMU version has String variables).
 pub fn no_string(table: &crate::variables::VariableTable, vr: u32) -> String {
     match table.get(vr) {
-        Some(v) => format!("value reference {vr} is the {:?} variable '{}', not a String (this FMU has no String variables)", v.base_type(), v.name),
+        Some(v) => format!("value reference {vr} is the {} variable '{}', not a String (this FMU has no String variables)", v.base_type().name(), v.name),
         None => format!("unknown value reference {vr} (this FMU has no String variables)"),
     }
 }

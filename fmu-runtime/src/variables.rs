@@ -99,11 +99,21 @@ pub enum BaseType {
 }
 
 impl BaseType {
-    /// "a Real", "an Integer", "a Boolean".
+    /// The type's name in both standards, for messages: FMI 2.0's, then FMI 3.0's where it
+    /// differs ("Real/Float64").
+    pub fn name(self) -> &'static str {
+        match self {
+            BaseType::Real => "Real/Float64",
+            BaseType::Integer => "Integer/Int32",
+            BaseType::Boolean => "Boolean",
+        }
+    }
+
+    /// "a Real/Float64", "an Integer/Int32", "a Boolean".
     pub fn with_article(self) -> &'static str {
         match self {
-            BaseType::Real => "a Real",
-            BaseType::Integer => "an Integer",
+            BaseType::Real => "a Real/Float64",
+            BaseType::Integer => "an Integer/Int32",
             BaseType::Boolean => "a Boolean",
         }
     }

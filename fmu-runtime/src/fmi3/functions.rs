@@ -242,7 +242,7 @@ fn integer_kind(table: &VariableTable, vrs: &[u32], enumeration: bool) -> CallRe
             }
         } else if enumeration {
             return Err(Failure::error(match table.get(*vr) {
-                Some(v) => format!("value reference {vr} is the {:?} variable '{}', not an Enumeration", v.base_type(), v.name),
+                Some(v) => format!("value reference {vr} is the {} variable '{}', not an Enumeration", v.base_type().name(), v.name),
                 None => format!("unknown value reference {vr}"),
             }));
         }
@@ -318,7 +318,7 @@ pub unsafe fn no_such_type<M: Model>(c: fmi3Instance, name: &str, type_name: &st
             None => Ok(()),
             Some(vr) if type_name == "String" => Err(Failure::error(no_string(comp.instance.table(), *vr))),
             Some(vr) => Err(Failure::error(match comp.instance.table().get(*vr) {
-                Some(v) => format!("value reference {vr} is the {:?} variable '{}', not a {type_name} (this FMU has no {type_name} variables)", v.base_type(), v.name),
+                Some(v) => format!("value reference {vr} is the {} variable '{}', not a {type_name} (this FMU has no {type_name} variables)", v.base_type().name(), v.name),
                 None => format!("unknown value reference {vr} (this FMU has no {type_name} variables)"),
             })),
         }

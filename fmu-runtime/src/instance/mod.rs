@@ -301,8 +301,8 @@ impl<M: Model> Instance<M> {
         })?;
         if var.base_type() != expected {
             return Err(Failure::error(format!(
-                "value reference {vr} is the {:?} variable '{}', not {}",
-                var.base_type(),
+                "value reference {vr} is the {} variable '{}', not {}",
+                var.base_type().name(),
                 var.name,
                 expected.with_article()
             )));
