@@ -143,7 +143,7 @@ def state_jacobian(fmu_path, states, overrides: dict | None = None, relative_ste
         m.setupExperiment(startTime=0.0)
         for name, value in (overrides or {}).items():
             v = variables[name]
-            if v.type == "Integer":
+            if v.type in ("Integer", "Enumeration"):
                 m.setInteger([v.valueReference], [int(value)])
             else:
                 m.setReal([v.valueReference], [float(value)])

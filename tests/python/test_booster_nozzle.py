@@ -127,7 +127,8 @@ def test_defaults_are_the_specs_values():
     assert 2 * 20.7e6 / q0 == pytest.approx(3.0e10, rel=0.01)
     md = model_description()
     profile = next(v for v in md.modelVariables if v.name == "profile")
-    assert (profile.type, profile.variability, int(profile.min), int(profile.max), int(profile.start)) == ("Integer", "fixed", 0, 2, 1)
+    assert (profile.type, profile.variability, int(profile.min), int(profile.max), int(profile.start)) == ("Enumeration", "fixed", 0, 2, 1)
+    assert [(i.name, int(i.value)) for i in profile.declaredType.items] == [("none", 0), ("step", 1), ("sine", 2)]
     de = md.defaultExperiment
     assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, 1.0, 1e-3)
     units = {v.name: v.unit for v in md.modelVariables}
@@ -177,7 +178,7 @@ def fmu_jacobian(overrides: dict, axis: str = "pitch") -> np.ndarray:
         m.setupExperiment(startTime=0.0)
         for name, value in overrides.items():
             v = variables[name]
-            if v.type == "Integer":
+            if v.type in ("Integer", "Enumeration"):
                 m.setInteger([v.valueReference], [int(value)])
             else:
                 m.setReal([v.valueReference], [float(value)])

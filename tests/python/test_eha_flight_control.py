@@ -115,7 +115,8 @@ def test_defaults_are_the_specs_values():
     assert int(starts["level"]) == 2
     md = model_description()
     level = next(v for v in md.modelVariables if v.name == "level")
-    assert (level.type, level.variability, int(level.min), int(level.max)) == ("Integer", "fixed", 1, 2)
+    assert (level.type, level.variability, int(level.min), int(level.max)) == ("Enumeration", "fixed", 1, 2)
+    assert [(i.name, int(i.value)) for i in level.declaredType.items] == [("ideal_transformers", 1), ("compressible_oil", 2)]
     de = md.defaultExperiment
     assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, 1.0, 1e-3)
     units = {v.name: v.unit for v in md.modelVariables}

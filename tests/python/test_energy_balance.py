@@ -98,12 +98,12 @@ def _print_worst(request):
 
 
 def structural_choices(md) -> dict[str, list]:
-    """name -> its values, for every fixed Integer parameter with a range and every Boolean parameter."""
+    """name -> its values, for every fixed Integer or Enumeration parameter with a range and every Boolean parameter."""
     choices = {}
     for v in md.modelVariables:
         if v.causality != "parameter":
             continue
-        if v.type == "Integer" and v.min is not None and v.max is not None:
+        if v.type in ("Integer", "Enumeration") and v.min is not None and v.max is not None:
             lo, hi = int(v.min), int(v.max)
             if hi - lo <= 5:
                 choices[v.name] = list(range(lo, hi + 1))

@@ -100,7 +100,8 @@ def test_defaults_are_the_specs_values():
     assert not wrong, "\n".join(wrong)
     md = model_description()
     profile = next(v for v in md.modelVariables if v.name == "profile")
-    assert (profile.type, profile.variability, int(profile.min), int(profile.max), int(profile.start)) == ("Integer", "fixed", 1, 2, 1)
+    assert (profile.type, profile.variability, int(profile.min), int(profile.max), int(profile.start)) == ("Enumeration", "fixed", 1, 2, 1)
+    assert [(i.name, int(i.value)) for i in profile.declaredType.items] == [("step", 1), ("sine", 2)]
     de = md.defaultExperiment
     assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, 3e-3, 1e-5)
     units = {v.name: v.unit for v in md.modelVariables}

@@ -71,12 +71,12 @@ BOOK = "book file Chap3_CoolingTowerFan.mo"
 # Spec, "Parameters": name -> (type, unit, variability, default, source). unit None: Integer/Boolean
 # (no unit). The defaults as the spec (and the book file) writes them.
 SPEC_PARAMETERS = {
-    "level": ("Integer", None, "fixed", 3, "Figure 3.5 a-d"),
-    "start_mode": ("Integer", None, "fixed", 1, "sections 3.3.1-3.3.2"),
-    "setpoint_filter": ("Integer", None, "fixed", 1, f"{BOOK}, component secondOrder1 (Transient_SpeedControler)"),
+    "level": ("Enumeration", None, "fixed", 3, "Figure 3.5 a-d"),
+    "start_mode": ("Enumeration", None, "fixed", 1, "sections 3.3.1-3.3.2"),
+    "setpoint_filter": ("Enumeration", None, "fixed", 1, f"{BOOK}, component secondOrder1 (Transient_SpeedControler)"),
     "keep_shaft_stiffness": ("Boolean", None, "fixed", True, "Figure 3.10"),
-    "motor_model": ("Integer", None, "fixed", 1, f"{BOOK}: the table TorqueSpeed at levels a-c"),
-    "motor_table_interpolation": ("Integer", None, "fixed", 0, f"{BOOK}: linear in Steady_State/Transient_Dynamic, Akima in Transient_Resonance"),
+    "motor_model": ("Enumeration", None, "fixed", 1, f"{BOOK}: the table TorqueSpeed at levels a-c"),
+    "motor_table_interpolation": ("Enumeration", None, "fixed", 0, f"{BOOK}: linear in Steady_State/Transient_Dynamic, Akima in Transient_Resonance"),
     **{f"motor_table_speed_{i + 1}": ("Real", "rad/s", "fixed", w, f"{BOOK}, component TorqueSpeed") for i, (w, _) in enumerate(ref.BOOK_TABLE)},
     **{f"motor_table_torque_{i + 1}": ("Real", "N.m", "tunable", T, f"{BOOK}, component TorqueSpeed") for i, (_, T) in enumerate(ref.BOOK_TABLE)},
     "J_motor": ("Real", "kg.m2", "tunable", 1.72, f"chapter 3.3.3; {BOOK}, component inertia_motor"),
@@ -93,7 +93,7 @@ SPEC_PARAMETERS = {
     "L_r_sigma": ("Real", "H", "tunable", 4e-4, "the book's induction machine"),
     "L_m": ("Real", "H", "tunable", 0.012, "the book's induction machine"),
     "pole_pairs": ("Real", "1", "fixed", 1.0, "the book's induction machine (314 rad/s synchronous, the table's zero)"),
-    "winding_connection": ("Integer", None, "fixed", 2, "the book's induction machine: delta (terminalBox.delta in its result files)"),
+    "winding_connection": ("Enumeration", None, "fixed", 2, "the book's induction machine: delta (terminalBox.delta in its result files)"),
     "U_supply": ("Real", "V", "tunable", 230.0, "the book's induction machine: VNominal = 230 V line to line"),
     "f_supply": ("Real", "Hz", "tunable", 50.0, "chapter: 50 Hz network"),
     "speed_setpoint": ("Real", "rad/s", "tunable", 300.0, f"{BOOK}, component timeTable"),
@@ -270,6 +270,10 @@ def test_model_description_parameters_and_outputs(motor_fan_fmu):
                 not isinstance(default, float) and got != default
             ):
                 problems.append(f"{name}: start {v.start!r}, spec {default!r} ({source})")
+    # The item names: the chapter's levels a-d (Figure 3.5), not 1..4.
+    items = [(i.name, int(i.value)) for i in variables["level"].declaredType.items] if variables.get("level") else None
+    if items != [("a", 1), ("b", 2), ("c", 3), ("d", 4)]:
+        problems.append(f"level: Enumeration items {items}, spec a-d valued 1..4")
     for name in REMOVED_PARAMETERS:
         if name in variables:
             problems.append(f"{name}: the spec no longer has this parameter")

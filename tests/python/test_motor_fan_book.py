@@ -178,7 +178,7 @@ COMPUTED = {"D_shaft", "filter_frequency_below", "actuator_angular_frequency"}
 def _start(v):
     if v.type == "Real":
         return float(v.start)
-    if v.type == "Integer":
+    if v.type in ("Integer", "Enumeration"):
         return int(v.start)
     if v.type == "Boolean":
         return str(v.start).lower() in ("true", "1")

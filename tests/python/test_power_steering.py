@@ -128,7 +128,7 @@ class Linearized:
             m.setupExperiment(startTime=0.0)
             m.enterInitializationMode()
             for name, value in dict(start_values, w_column=1e-3).items():
-                if self.kind[name] == "Integer":
+                if self.kind[name] in ("Integer", "Enumeration"):
                     m.setInteger([self.vr[name]], [int(value)])
                 elif self.kind[name] == "Boolean":
                     m.setBoolean([self.vr[name]], [bool(value)])

@@ -154,7 +154,7 @@ def test_hand_figures_overload_torque_and_losses():
 def test_defaults_are_the_book_files_values():
     p = parameter_starts()
     md = read_model_description(str(thermal_fmu()))
-    ints = {v.name: int(v.start) for v in md.modelVariables if v.type == "Integer" and v.start is not None}
+    ints = {v.name: int(v.start) for v in md.modelVariables if v.type in ("Integer", "Enumeration") and v.start is not None}
     inputs = {v.name: float(v.start) for v in md.modelVariables if v.causality == "input" and v.type == "Real"}
     print(f"\n| parameter | book value | FMU default | source ({BOOK_FILE}) |\n|---|---|---|---|")
     for name, (value, source) in BOOK_VALUES.items():

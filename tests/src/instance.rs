@@ -25,6 +25,7 @@ use crate::ffi::{
     Status, StatusKind, ValueReference, FMI2_FALSE, FMI2_TRUE, FMI3_FALSE, FMI3_TRUE,
 };
 use crate::fmu::Fmu;
+use crate::model_description::VariableType;
 use crate::logger::{log_message_callback, logger_callback, LogCollector, LogSink};
 
 extern "C" {
@@ -581,7 +582,8 @@ impl Instance {
         (status, values)
     }
 
-    /// `fmi2GetInteger` / `fmi3GetInt32`.
+    /// `fmi2GetInteger` / `fmi3GetInt32`, or `fmi3GetInt64` for the Enumerations (the values of
+    /// an Enumeration outside 32 bits read as `i32::MIN`).
     pub fn get_integer(&mut self, vr: &[ValueReference], values: &mut [i32]) -> Status {
         assert_eq!(
             vr.len(),
@@ -589,13 +591,65 @@ impl Instance {
             "get_integer: one value per value reference"
         );
         let (n, p) = (vr.len(), values.as_mut_ptr());
-        // SAFETY: both arrays hold vr.len() elements.
-        unsafe {
-            match self.api() {
-                Api::Fmi2(f) => (f.get_integer)(self.c(), vr.as_ptr(), n, p),
-                Api::Fmi3(f) => (f.get_int32)(self.c(), vr.as_ptr(), n, p, n),
+        let c = self.c();
+        match self.api() {
+            // SAFETY: both arrays hold vr.len() elements.
+            Api::Fmi2(f) => unsafe { (f.get_integer)(c, vr.as_ptr(), n, p) },
+            Api::Fmi3(f) => {
+                let (get_int32, get_int64) = (f.get_int32, f.get_int64);
+                self.by_integer_kind(vr, |enumerations, vrs, at| {
+                    let m = vrs.len();
+                    if enumerations {
+                        let mut wide = vec![0i64; m];
+                        // SAFETY: both arrays hold m elements.
+                        let status = unsafe { get_int64(c, vrs.as_ptr(), m, wide.as_mut_ptr(), m) };
+                        for (&i, w) in at.iter().zip(wide) {
+                            values[i] = i32::try_from(w).unwrap_or(i32::MIN);
+                        }
+                        status
+                    } else {
+                        let mut narrow = vec![0i32; m];
+                        // SAFETY: both arrays hold m elements.
+                        let status = unsafe { get_int32(c, vrs.as_ptr(), m, narrow.as_mut_ptr(), m) };
+                        for (&i, v) in at.iter().zip(narrow) {
+                            values[i] = v;
+                        }
+                        status
+                    }
+                })
             }
         }
+    }
+
+    /// Calls `call(enumerations, value references, their positions in vr)` once for the
+    /// Enumerations among `vr` and once for the others (value references this FMU does not
+    /// declare count as others): FMI 3.0 reads and sets an Enumeration with fmi3Get/SetInt64,
+    /// an Int32 with fmi3Get/SetInt32. Returns the worse status.
+    fn by_integer_kind(
+        &self,
+        vr: &[ValueReference],
+        mut call: impl FnMut(bool, &[ValueReference], &[usize]) -> Status,
+    ) -> Status {
+        let description = self.fmu.model_description();
+        let is_enumeration = |r: &ValueReference| {
+            description
+                .model_variables
+                .iter()
+                .any(|v| v.value_reference == *r && v.variable_type == VariableType::Enumeration)
+        };
+        let (enums, others): (Vec<usize>, Vec<usize>) = (0..vr.len()).partition(|&i| is_enumeration(&vr[i]));
+        let mut worst = Status::OK;
+        for (enumerations, at) in [(true, enums), (false, others)] {
+            if at.is_empty() && (enumerations || !vr.is_empty()) {
+                continue;
+            }
+            let vrs: Vec<ValueReference> = at.iter().map(|&i| vr[i]).collect();
+            let status = call(enumerations, &vrs, &at);
+            if status.0 > worst.0 {
+                worst = status;
+            }
+        }
+        worst
     }
 
     /// `fmi2GetBoolean` / `fmi3GetBoolean` (any non-zero value reads as `true`).
@@ -666,7 +720,7 @@ impl Instance {
         unsafe { self.set_real_raw(vr.as_ptr(), vr.len(), values.as_ptr()) }
     }
 
-    /// `fmi2SetInteger` / `fmi3SetInt32`.
+    /// `fmi2SetInteger` / `fmi3SetInt32`, or `fmi3SetInt64` for the Enumerations.
     pub fn set_integer(&mut self, vr: &[ValueReference], values: &[i32]) -> Status {
         assert_eq!(
             vr.len(),
@@ -674,11 +728,24 @@ impl Instance {
             "set_integer: one value per value reference"
         );
         let n = vr.len();
-        // SAFETY: both arrays hold vr.len() elements.
-        unsafe {
-            match self.api() {
-                Api::Fmi2(f) => (f.set_integer)(self.c(), vr.as_ptr(), n, values.as_ptr()),
-                Api::Fmi3(f) => (f.set_int32)(self.c(), vr.as_ptr(), n, values.as_ptr(), n),
+        let c = self.c();
+        match self.api() {
+            // SAFETY: both arrays hold vr.len() elements.
+            Api::Fmi2(f) => unsafe { (f.set_integer)(c, vr.as_ptr(), n, values.as_ptr()) },
+            Api::Fmi3(f) => {
+                let (set_int32, set_int64) = (f.set_int32, f.set_int64);
+                self.by_integer_kind(vr, |enumerations, vrs, at| {
+                    let m = vrs.len();
+                    if enumerations {
+                        let wide: Vec<i64> = at.iter().map(|&i| i64::from(values[i])).collect();
+                        // SAFETY: both arrays hold m elements.
+                        unsafe { set_int64(c, vrs.as_ptr(), m, wide.as_ptr(), m) }
+                    } else {
+                        let narrow: Vec<i32> = at.iter().map(|&i| values[i]).collect();
+                        // SAFETY: both arrays hold m elements.
+                        unsafe { set_int32(c, vrs.as_ptr(), m, narrow.as_ptr(), m) }
+                    }
+                })
             }
         }
     }

@@ -990,14 +990,34 @@ enum State3 {
 /// no rule is checked.
 struct Oracle {
     model_exchange: bool,
+    /// The value references a pick lands on, and those of the Enumerations (structural choices),
+    /// which FMI 3.0 reads and sets with fmi3GetInt64/fmi3SetInt64: the only variables of the
+    /// "other" types.
+    vrs: Vec<ValueReference>,
+    enumerations: Vec<ValueReference>,
+    /// The position of Int64 in `Fmi3Functions::other_types`.
+    int64: u8,
     state: Option<State3>,
     /// How many calls it said must be refused (all were).
     refusals: u64,
 }
 
 impl Oracle {
-    fn new(model_exchange: bool) -> Oracle {
-        Oracle { model_exchange, state: Some(State3::Instantiated), refusals: 0 }
+    fn new(model_exchange: bool, target: &Target) -> Oracle {
+        let md = target.fmu.model_description();
+        let enumerations =
+            md.model_variables.iter().filter(|v| v.variable_type == VariableType::Enumeration).map(|v| v.value_reference).collect();
+        let f = target.fmu.fmi3_functions().expect("an FMI 3.0 FMU");
+        let int64 = f.other_types.iter().position(|t| t.0 == "Int64").expect("Int64 among the other types") as u8;
+        Oracle { model_exchange, vrs: target.vrs.clone(), enumerations, int64, state: Some(State3::Instantiated), refusals: 0 }
+    }
+
+    /// Whether every pick is an Enumeration's value reference.
+    fn all_enumerations(&self, picks: &[VrPick]) -> bool {
+        picks.iter().all(|p| match p {
+            VrPick::Existing(i) => self.enumerations.contains(&self.vrs[i % self.vrs.len()]),
+            _ => false,
+        })
     }
 
     /// Why the standard does not allow `call` here (it must then return fmi3Error), if it does not.
@@ -1026,8 +1046,8 @@ impl Oracle {
             return Some(format!("{}: a capability modelDescription.xml does not declare", UNPROVIDED[*which as usize]));
         }
         if let Call::OtherType { which, vrs, .. } = call {
-            if !vrs.is_empty() {
-                return Some(format!("type {which} (Float32..UInt64, Binary): no variable has it"));
+            if !vrs.is_empty() && !(*which == self.int64 && self.all_enumerations(vrs)) {
+                return Some(format!("type {which} (Float32..UInt64, Binary): no variable has it (Int64: only the Enumerations)"));
             }
         }
         if let Call::MismatchedCount { vrs, .. } = call {
@@ -1102,7 +1122,7 @@ fn run_case(target: &Target, case: &Case, reference: &[Vec<u64>; 2], tally: &mut
     let inst = target.instantiate("fuzzed", case.model_exchange, case.logging_on, case.memory_callbacks);
     let version = target.fmu.fmi_version();
     let mut run = Run { target, inst, time: 0.0, states: Vec::new(), experiment: (None, 0.0, None) };
-    let mut oracle = (version == FmiVersion::Fmi3).then(|| Oracle::new(case.model_exchange));
+    let mut oracle = (version == FmiVersion::Fmi3).then(|| Oracle::new(case.model_exchange, target));
     for (i, call) in case.calls.iter().enumerate() {
         let mark = run.inst.log().len();
         let forbidden = oracle.as_ref().and_then(|o| o.forbids(call));

@@ -314,7 +314,8 @@ pub unsafe fn get_real_output_derivatives<M: Model>(
 }
 
 pub unsafe fn do_step<M: Model>(c: fmi2Component, t: fmi2Real, h: fmi2Real, _no_set_prior: fmi2Boolean) -> fmi2Status {
-    with::<M>(c, Function::DoStep, "fmi2DoStep", |comp| comp.instance.do_step(t, h))
+    // FMI 2.0 has no event mode in Co-Simulation: every step reaches its end.
+    with::<M>(c, Function::DoStep, "fmi2DoStep", |comp| comp.instance.do_step(t, h).map(|_| ()))
 }
 
 pub unsafe fn cancel_step<M: Model>(c: fmi2Component) -> fmi2Status {

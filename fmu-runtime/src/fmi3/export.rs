@@ -12,7 +12,7 @@ macro_rules! export_fmi3 {
         mod __fmi3 {
             use super::{exported, M};
             use $crate::fmi3::functions as f;
-            use $crate::fmi3::functions::{NO_CLOCKS, NO_EVALUATE, NO_EVENT_MODE, NO_PARTITIONS, NO_PER_ELEMENT, NO_STRUCTURAL_PARAMETERS};
+            use $crate::fmi3::functions::{NO_CLOCKS, NO_EVALUATE, NO_PARTITIONS, NO_PER_ELEMENT, NO_STRUCTURAL_PARAMETERS};
             use $crate::fmi3::types::*;
             use $crate::instance::Interface;
             use std::os::raw::c_char;
@@ -36,7 +36,7 @@ macro_rules! export_fmi3 {
                 log_message: Option<fmi3LogMessageCallback>,
             ) -> fmi3Instance {
                 match std::panic::catch_unwind(exported) {
-                    Ok(e) => f::instantiate::<M>(e, Interface::ModelExchange, name, token, environment, logging_on != 0, log_message),
+                    Ok(e) => f::instantiate::<M>(e, Interface::ModelExchange, name, token, environment, logging_on != 0, log_message, (false, false)),
                     Err(_) => std::ptr::null_mut(),
                 }
             }
@@ -47,8 +47,8 @@ macro_rules! export_fmi3 {
                 _resources: fmi3String,
                 _visible: fmi3BooleanIn,
                 logging_on: fmi3BooleanIn,
-                _event_mode_used: fmi3BooleanIn,
-                _early_return_allowed: fmi3BooleanIn,
+                event_mode_used: fmi3BooleanIn,
+                early_return_allowed: fmi3BooleanIn,
                 _required_intermediate: *const fmi3ValueReference,
                 _n_required_intermediate: usize,
                 environment: fmi3InstanceEnvironment,
@@ -56,7 +56,7 @@ macro_rules! export_fmi3 {
                 _intermediate_update: Option<fmi3IntermediateUpdateCallback>,
             ) -> fmi3Instance {
                 match std::panic::catch_unwind(exported) {
-                    Ok(e) => f::instantiate::<M>(e, Interface::CoSimulation, name, token, environment, logging_on != 0, log_message),
+                    Ok(e) => f::instantiate::<M>(e, Interface::CoSimulation, name, token, environment, logging_on != 0, log_message, (event_mode_used != 0, early_return_allowed != 0)),
                     Err(_) => std::ptr::null_mut(),
                 }
             }
@@ -335,7 +335,7 @@ macro_rules! export_fmi3 {
             }
             #[no_mangle]
             pub unsafe extern "C" fn fmi3EnterStepMode(c: fmi3Instance) -> fmi3Status {
-                f::not_provided::<M>(c, "fmi3EnterStepMode", NO_EVENT_MODE)
+                f::enter_step_mode::<M>(c)
             }
             #[no_mangle]
             pub unsafe extern "C" fn fmi3GetOutputDerivatives(c: fmi3Instance, vr: *const fmi3ValueReference, n: usize, orders: *const fmi3Int32, v: *mut fmi3Float64, nv: usize) -> fmi3Status {

@@ -87,6 +87,7 @@ pub unsafe fn instantiate<M: Model>(
     environment: fmi3InstanceEnvironment,
     logging_on: bool,
     log_message: Option<fmi3LogMessageCallback>,
+    (event_mode_used, early_return_allowed): (bool, bool),
 ) -> fmi3Instance {
     let name = c_str(instance_name).unwrap_or("");
     let logger = Logger::new(Fmi3Logger::sink(log_message, environment), logging_on);
@@ -114,7 +115,12 @@ pub unsafe fn instantiate<M: Model>(
         }
         None => return fail("instantiationToken is null or not UTF-8".into()),
     }
-    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::for_interface(interface, &exported.of_standard(crate::standards::Standard::Fmi3).token, logger))) {
+    let made = || {
+        let mut instance = Instance::<M>::for_interface(interface, &exported.of_standard(crate::standards::Standard::Fmi3).token, logger);
+        instance.hand_events_to_master(event_mode_used, early_return_allowed);
+        instance
+    };
+    match catch_unwind(AssertUnwindSafe(made)) {
         Ok(instance) => Component::into_raw(instance),
         Err(payload) => {
             let logger = Logger::new(Fmi3Logger::sink(log_message, environment), true);
@@ -571,9 +577,11 @@ pub unsafe fn get_output_derivatives<M: Model>(
     })
 }
 
-/// fmi3DoStep: the events inside the step are handled in it (this FMU has no event mode in
-/// Co-Simulation), so it never asks for event handling, never ends the simulation and never
-/// returns early; lastSuccessfulTime is the step's end, or its start when it is discarded.
+/// fmi3DoStep. With eventModeUsed and earlyReturnAllowed the step returns early at the first
+/// event inside it (eventHandlingNeeded, earlyReturn, lastSuccessfulTime the event's time), or
+/// asks for event handling at its end when a time event falls there; otherwise the events are
+/// handled inside the step. It never ends the simulation; lastSuccessfulTime is the time
+/// reached, or the step's start when the step is discarded.
 pub unsafe fn do_step<M: Model>(
     c: fmi3Instance,
     t: fmi3Float64,
@@ -592,15 +600,22 @@ pub unsafe fn do_step<M: Model>(
         (*event, *terminate, *early) = (false, false, false);
         let result = comp.instance.do_step(t, h);
         *last = comp.instance.time();
-        result
+        let end = result?;
+        *event = end.event;
+        *early = end.time < t + h;
+        Ok(())
     })
+}
+
+/// fmi3EnterStepMode: from Event Mode back to stepping (Co-Simulation with eventModeUsed).
+pub unsafe fn enter_step_mode<M: Model>(c: fmi3Instance) -> fmi3Status {
+    with::<M>(c, Function::EnterStepMode, "fmi3EnterStepMode", |comp| comp.instance.enter_step_mode())
 }
 
 // ---- What this FMU does not provide ----------------------------------------------------------
 
 pub const NO_CLOCKS: &str = "this FMU has no clocks";
 pub const NO_STRUCTURAL_PARAMETERS: &str = "this FMU has no structural parameters (providing them is left to its parameters before initialization)";
-pub const NO_EVENT_MODE: &str = "this FMU handles its events inside fmi3DoStep (hasEventMode = false), so Co-Simulation never enters Event Mode";
 pub const NO_EVALUATE: &str = "providesEvaluateDiscreteStates = false";
 pub const NO_PER_ELEMENT: &str = "providesPerElementDependencies = false: read the dependencies from modelDescription.xml's ModelStructure";
 pub const NO_PARTITIONS: &str = "this FMU provides no Scheduled Execution";
@@ -628,7 +643,7 @@ mod tests {
 
     unsafe fn co_simulation<M: Model>(exported: &'static Exported, token: &str) -> fmi3Instance {
         let token = CString::new(token).unwrap();
-        instantiate::<M>(exported, Interface::CoSimulation, c"i".as_ptr(), token.as_ptr(), std::ptr::null_mut(), false, Some(record))
+        instantiate::<M>(exported, Interface::CoSimulation, c"i".as_ptr(), token.as_ptr(), std::ptr::null_mut(), false, Some(record), (false, false))
     }
 
     unsafe fn step(c: fmi3Instance, t: f64, h: f64) -> (fmi3Status, f64) {
@@ -663,7 +678,7 @@ mod tests {
         let e = exported::<Chooser>();
         unsafe {
             let token = CString::new(e.of_standard(crate::standards::Standard::Fmi3).token.clone()).unwrap();
-            let c = instantiate::<Chooser>(e, Interface::CoSimulation, c"i".as_ptr(), token.as_ptr(), std::ptr::null_mut(), false, Some(record));
+            let c = instantiate::<Chooser>(e, Interface::CoSimulation, c"i".as_ptr(), token.as_ptr(), std::ptr::null_mut(), false, Some(record), (false, false));
             let vr = [0u32];
             assert_eq!(set_int64::<Chooser>(c, vr.as_ptr(), 1, [1i64].as_ptr(), 1), fmi3OK);
             assert_eq!(set_int64::<Chooser>(c, vr.as_ptr(), 1, [3i64].as_ptr(), 1), fmi3Error, "no third item");

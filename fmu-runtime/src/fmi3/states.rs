@@ -1,10 +1,10 @@
 //! The FMI 3.0 state machine (FMI 3.0, sections 3.2 for Model Exchange and 4.2 for
 //! Co-Simulation) over the runtime's [`Phase`]s: which fmi3 function may be called in which
 //! phase, in one table, and the standard's names of the phases. This FMU has no clocks, no
-//! structural parameters and no event mode in Co-Simulation (its events are handled inside
-//! fmi3DoStep), so ConfigurationMode, ReconfigurationMode, ClockActivationMode and
-//! IntermediateUpdateMode are never entered, and Co-Simulation never leaves StepMode for
-//! EventMode.
+//! structural parameters and no intermediate updates, so ConfigurationMode,
+//! ReconfigurationMode, ClockActivationMode and IntermediateUpdateMode are never entered.
+//! Co-Simulation enters EventMode only when the master instantiated it with eventModeUsed (the
+//! instance refuses fmi3EnterEventMode otherwise).
 
 use crate::boundary::CallTable;
 use crate::phase::Phase;
@@ -47,9 +47,10 @@ pub enum Function {
     PartialDerivatives,
     /// fmi3GetNumberOfContinuousStates, fmi3GetNumberOfEventIndicators.
     Counts,
-    // Model Exchange only.
+    // Model Exchange, and Co-Simulation with eventModeUsed.
     EnterEventMode,
     UpdateDiscreteStates,
+    // Model Exchange only.
     EnterContinuousTimeMode,
     CompletedIntegratorStep,
     SetTime,
@@ -61,6 +62,7 @@ pub enum Function {
     // Co-Simulation only.
     GetOutputDerivatives,
     DoStep,
+    EnterStepMode,
 }
 
 impl CallTable for Function {
@@ -75,7 +77,8 @@ impl CallTable for Function {
             Function::Terminate => STEP | FAILED | EVENT | CONTINUOUS,
             Function::Get | Function::PartialDerivatives => READABLE,
             Function::Set => INSTANTIATED | INIT | STEP | EVENT | CONTINUOUS,
-            Function::EnterEventMode => CONTINUOUS,
+            // From ContinuousTimeMode (Model Exchange) or StepMode (Co-Simulation).
+            Function::EnterEventMode => CONTINUOUS | STEP,
             Function::UpdateDiscreteStates | Function::EnterContinuousTimeMode => EVENT,
             Function::CompletedIntegratorStep | Function::SetContinuousStates => CONTINUOUS,
             Function::SetTime => EVENT | CONTINUOUS,
@@ -83,15 +86,14 @@ impl CallTable for Function {
             Function::GetNominalsOfContinuousStates => INSTANTIATED | EVENT | CONTINUOUS | TERMINATED | ERROR,
             Function::GetOutputDerivatives => STEP | FAILED | TERMINATED | ERROR,
             Function::DoStep => STEP,
+            Function::EnterStepMode => EVENT,
         }
     }
 
     fn is_model_exchange_only(self) -> bool {
         matches!(
             self,
-            Function::EnterEventMode
-                | Function::UpdateDiscreteStates
-                | Function::EnterContinuousTimeMode
+            Function::EnterContinuousTimeMode
                 | Function::CompletedIntegratorStep
                 | Function::SetTime
                 | Function::SetContinuousStates
@@ -103,7 +105,7 @@ impl CallTable for Function {
     }
 
     fn is_co_simulation_only(self) -> bool {
-        matches!(self, Function::GetOutputDerivatives | Function::DoStep)
+        matches!(self, Function::GetOutputDerivatives | Function::DoStep | Function::EnterStepMode)
     }
 
     fn phase_name(phase: Phase) -> &'static str {
@@ -130,5 +132,9 @@ mod tests {
             assert!(!f.is_allowed_in(Phase::Fatal), "{f:?}");
         }
         assert_eq!(Function::ExitInitializationMode.allowed_names(), "InitializationMode");
+        // Co-Simulation's event mode: in from StepMode, out with fmi3EnterStepMode.
+        assert!(Function::EnterEventMode.is_allowed_in(Phase::Stepping) && !Function::EnterEventMode.is_allowed_in(Phase::StepFailed));
+        assert!(Function::EnterStepMode.is_allowed_in(Phase::Event) && !Function::EnterStepMode.is_allowed_in(Phase::Stepping));
+        assert!(Function::EnterStepMode.is_co_simulation_only() && !Function::UpdateDiscreteStates.is_model_exchange_only());
     }
 }

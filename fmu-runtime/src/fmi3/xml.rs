@@ -76,9 +76,10 @@ pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &P
             ("canHandleVariableCommunicationStepSize", yes_no(true)),
             ("maxOutputDerivativeOrder", "1".into()),
             ("providesIntermediateUpdate", yes_no(false)),
-            ("mightReturnEarlyFromDoStep", yes_no(false)),
+            // At events, when the master uses event mode and allows early return.
+            ("mightReturnEarlyFromDoStep", yes_no(true)),
             ("canReturnEarlyAfterIntermediateUpdate", yes_no(false)),
-            ("hasEventMode", yes_no(false)),
+            ("hasEventMode", yes_no(true)),
             ("providesEvaluateDiscreteStates", yes_no(false)),
         ],
     );

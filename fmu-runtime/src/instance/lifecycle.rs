@@ -84,10 +84,22 @@ impl<M: Model> Instance<M> {
                 return Err(Failure::error(message));
             }
         }
-        self.phase = Phase::Stepping;
+        // With the master handling events, Co-Simulation starts in the event phase (FMI 3.0:
+        // fmi3ExitInitializationMode enters Event Mode when eventModeUsed).
+        self.phase = if self.event_mode_used { Phase::Event } else { Phase::Stepping };
         self.stale = true;
         self.debug("initialization done");
         Ok(())
+    }
+
+    /// Co-Simulation: whether the master handles the events (`event_mode_used`: it enters the
+    /// event phase at communication points) and whether a step stops at each event inside it
+    /// and returns early (`stop_at_events`, only with `event_mode_used`). Set at instantiation;
+    /// without either the events are handled inside the step.
+    pub fn hand_events_to_master(&mut self, event_mode_used: bool, stop_at_events: bool) {
+        let used = event_mode_used && self.interface == Interface::CoSimulation;
+        self.event_mode_used = used;
+        self.stops_at_events = used && stop_at_events;
     }
 
     pub(super) fn check_parameters(&self) -> Result<(), String> {

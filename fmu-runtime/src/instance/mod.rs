@@ -135,6 +135,13 @@ struct Fresh {
 
 pub struct Instance<M: Model> {
     pub interface: Interface,
+    /// Co-Simulation with the master handling events (FMI 3.0's eventModeUsed): the instance
+    /// enters the event phase after initialization and the master may enter it at any
+    /// communication point.
+    event_mode_used: bool,
+    /// And the master allows the step to end early (earlyReturnAllowed): the step stops at
+    /// each event, before the modes change, and leaves the event to the master.
+    stops_at_events: bool,
     runtime: RuntimeVariables,
     /// The known reals at the previous communication point and its time, for input
     /// extrapolation.
@@ -203,6 +210,8 @@ impl<M: Model> Instance<M> {
         let n_states = table.n_states;
         let mut inst = Instance {
             interface,
+            event_mode_used: false,
+            stops_at_events: false,
             runtime,
             previous_inputs: None,
             model,
@@ -325,6 +334,7 @@ mod model_exchange;
 mod modes;
 mod partial_derivatives;
 mod stepping;
+pub use stepping::StepEnd;
 
 #[cfg(test)]
 mod tests;

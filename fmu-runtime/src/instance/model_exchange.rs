@@ -3,8 +3,21 @@
 use super::*;
 
 impl<M: Model> Instance<M> {
+    /// Model Exchange, and Co-Simulation when the master handles events (after a step that
+    /// returned at an event, or to change inputs discretely at a communication point).
     pub fn enter_event_mode(&mut self) -> CallResult {
+        if self.interface == Interface::CoSimulation && !self.event_mode_used {
+            return Err(Failure::error(
+                "the master did not ask to handle events (eventModeUsed = false at instantiation), so this instance handles them inside its steps and never enters event mode",
+            ));
+        }
         self.phase = Phase::Event;
+        Ok(())
+    }
+
+    /// Co-Simulation: back from the event phase to stepping.
+    pub fn enter_step_mode(&mut self) -> CallResult {
+        self.phase = Phase::Stepping;
         Ok(())
     }
 
@@ -27,8 +40,14 @@ impl<M: Model> Instance<M> {
             self.store_states();
         }
         if modes_changed || states_changed {
-            if let Some(counter) = self.runtime.state_events {
+            // Co-Simulation counted the event where its step stopped, as a step handling its
+            // events itself does.
+            if let (Some(counter), Interface::ModelExchange) = (self.runtime.state_events, self.interface) {
                 self.values.integers[counter.0] = self.values.integers[counter.0].saturating_add(1);
+            }
+            // Co-Simulation's solver goes on with the new modes (and its step size).
+            if let Some(step_size) = self.integrator.as_ref().map(|i| i.step_size) {
+                self.integrator = Some(self.remade_integrator(step_size).map_err(Failure::error)?);
             }
             self.stale = true;
             self.debug(&format!("event at t = {} s: modes or states changed", self.time));

@@ -3,6 +3,16 @@
 
 use super::*;
 
+/// How a communication step ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepEnd {
+    /// The time reached: the step's end, or the event it stopped at.
+    pub time: f64,
+    /// The step met an event at `time` that the master is to handle (only when it handles
+    /// events: `Instance::hand_events_to_master`).
+    pub event: bool,
+}
+
 impl<M: Model> Instance<M> {
     pub(super) fn make_integrator(&self) -> Result<Box<Integrator>, String> {
         Integrator::new(
@@ -30,8 +40,10 @@ impl<M: Model> Instance<M> {
         Ok(integrator)
     }
 
-    /// fmi2DoStep: integrate from the communication point to the next one.
-    pub fn do_step(&mut self, t: f64, h: f64) -> CallResult {
+    /// fmi2DoStep, fmi3DoStep: integrate from the communication point to the next one, or,
+    /// when the master handles events and allows it, to the first event inside the step
+    /// (before the modes change: the master enters the event phase there).
+    pub fn do_step(&mut self, t: f64, h: f64) -> CallResult<StepEnd> {
         if !(h.is_finite() && h > 0.0) {
             return Err(Failure::error(format!("communication step size {h} must be a finite number > 0")));
         }
@@ -61,15 +73,22 @@ impl<M: Model> Instance<M> {
         if self.has_inputs {
             self.extrapolated_slopes(t, &mut slopes);
         }
-        let result = self.integrate(t, &mut x, t_end, &slopes);
-        if let Err(message) = result {
-            (self.buffers.x, self.buffers.slopes) = (x, slopes);
-            self.phase = Phase::StepFailed;
-            return Err(Failure {
-                status: Status::Discard,
-                message: format!("step from {t} s to {t_end} s discarded, the instance stays at {t} s: {message}"),
-            });
-        }
+        let event = match self.integrate(t, &mut x, t_end, &slopes) {
+            Ok(event) => event,
+            Err(message) => {
+                (self.buffers.x, self.buffers.slopes) = (x, slopes);
+                self.phase = Phase::StepFailed;
+                return Err(Failure {
+                    status: Status::Discard,
+                    message: format!("step from {t} s to {t_end} s discarded, the instance stays at {t} s: {message}"),
+                });
+            }
+        };
+        // Where the step ended: its end, or the event it stopped at.
+        let (reached, tau) = match event {
+            Some(at) if at < t_end => (at, at - t),
+            _ => (t_end, h),
+        };
         if self.has_inputs {
             match &mut self.previous_inputs {
                 Some((t_prev, previous)) => {
@@ -83,7 +102,7 @@ impl<M: Model> Instance<M> {
             for (i, (slope, curvature)) in slopes.iter().zip(&self.input_curvatures).enumerate() {
                 // Only moving inputs are written: `+= 0.0` would turn an input's -0.0 into +0.0.
                 if *slope != 0.0 || *curvature != 0.0 {
-                    self.values.known[i] += slope * h + 0.5 * curvature * h * h;
+                    self.values.known[i] += slope * tau + 0.5 * curvature * tau * tau;
                     self.knowns_set = true;
                 }
             }
@@ -94,10 +113,15 @@ impl<M: Model> Instance<M> {
         }
         std::mem::swap(&mut self.states, &mut x);
         (self.buffers.x, self.buffers.slopes) = (x, slopes);
-        self.time = t_end;
+        self.time = reached;
         self.store_states();
         self.stale = true;
-        Ok(())
+        if event.is_some() {
+            // Should the master step on without handling the event, the next step settles the
+            // modes at its start.
+            self.knowns_set = true;
+        }
+        Ok(StepEnd { time: reached, event: event.is_some() })
     }
 
     /// The input slopes for a step from `t`: the master's input derivatives where it gave them;
@@ -121,8 +145,10 @@ impl<M: Model> Instance<M> {
 
     /// Integrates from `t` to `t_end`, stopping at every time event the model announces and at
     /// every zero crossing of an event indicator, where the modes are updated and the solver
-    /// restarts. On failure the modes are those of `t` again (the step is discarded).
-    pub(super) fn integrate(&mut self, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64]) -> Result<(), String> {
+    /// restarts; or, when the step stops at events (`stops_at_events`), returns the time of the
+    /// first one, the modes unchanged (an event at `t_end` is returned as `t_end`). On failure
+    /// the modes are those of `t` again (the step is discarded).
+    pub(super) fn integrate(&mut self, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64]) -> Result<Option<f64>, String> {
         let mut integrator = self.integrator.take().ok_or("the instance has no ODE solver (initialization did not finish)")?;
         let step_size = integrator.step_size;
         // Without modes, no integer changes in a step.
@@ -145,7 +171,7 @@ impl<M: Model> Instance<M> {
         result
     }
 
-    pub(super) fn integrate_with(&mut self, integrator: &mut Integrator, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64], curvatures: &[f64]) -> Result<(), String> {
+    pub(super) fn integrate_with(&mut self, integrator: &mut Integrator, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64], curvatures: &[f64]) -> Result<Option<f64>, String> {
         // Inputs or tunable parameters set at this communication point may change the modes
         // (a force above the static friction breaks a stuck body loose) without any indicator
         // crossing zero during integration. When nothing was set since the last step, the modes
@@ -184,9 +210,16 @@ impl<M: Model> Instance<M> {
             let knowns_set = std::mem::replace(&mut self.knowns_set, false);
             let how = integrator.advance(&v.known, &motion, knowns_set, now, x, next, limit, &mut budget)?;
             match how {
-                Advanced::Reached if next == t_end => return Ok(()),
+                Advanced::Reached if next == t_end => {
+                    // A time event at the step's end is the master's to handle, when it does.
+                    let at_end = self.stops_at_events && event.is_some_and(|e| e <= t_end + tiny);
+                    return Ok(at_end.then_some(t_end));
+                }
                 Advanced::Reached => {
                     self.logger.log(Status::Ok, &format!("time event at t = {next} s"));
+                    if self.stops_at_events {
+                        return Ok(Some(next));
+                    }
                     now = next;
                 }
                 Advanced::Crossing { time, indicator } => {
@@ -206,6 +239,9 @@ impl<M: Model> Instance<M> {
                     self.logger.log(Status::Ok, &format!("state event at t = {time} s: '{}' crossed zero", self.table.indicators[indicator].0));
                     if let Some(counter) = self.runtime.state_events {
                         self.values.integers[counter.0] = self.values.integers[counter.0].saturating_add(1);
+                    }
+                    if self.stops_at_events {
+                        return Ok(Some(time));
                     }
                     now = time;
                 }

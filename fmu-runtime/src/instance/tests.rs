@@ -581,3 +581,86 @@ fn a_calculated_state_without_a_finite_value_fails_initialization_by_name() {
     assert!(e.message.contains("'T'") && e.message.contains("initial value"), "{}", e.message);
     assert_eq!(i.phase, Phase::Error);
 }
+
+/// A Block whose master handles its events (FMI 3.0 Co-Simulation with eventModeUsed and
+/// earlyReturnAllowed), initialized: it starts in the event phase.
+fn block_handing_events_to_master() -> Instance<crate::test_model::Block> {
+    let mut i = Instance::<crate::test_model::Block>::for_interface(Interface::CoSimulation, "{test}", Logger::silent());
+    i.hand_events_to_master(true, true);
+    i.setup_experiment(Some(1e-8), 0.0, None).unwrap();
+    i.enter_initialization_mode().unwrap();
+    i.exit_initialization_mode().unwrap();
+    assert_eq!(i.phase, Phase::Event, "eventModeUsed: initialization ends in event mode");
+    i.new_discrete_states().unwrap();
+    i.enter_step_mode().unwrap();
+    i
+}
+
+#[test]
+fn a_master_handling_events_gets_the_step_back_at_the_crossing() {
+    // The 3 m/s block with F_c = 1.5 N sticks at t = 2 s (v = 3 - 1.5 t): the step [1.5, 2.5] s
+    // returns at 2 s (to ROOT_TIME_TOLERANCE) with the event for the master, the mode still
+    // "slipping"; the master's event mode makes it stuck, and the rest of the step ends where
+    // a step handling the event itself ends (x = v0^2 / (2 F_c) = 3 m, v = 0).
+    let mut i = block_handing_events_to_master();
+    let end = i.do_step(0.0, 1.5).unwrap();
+    assert_eq!(end, StepEnd { time: 1.5, event: false });
+    let end = i.do_step(1.5, 1.0).unwrap();
+    assert!(end.event && (end.time - 2.0).abs() < 1e-9, "{end:?}");
+    assert_eq!(named(&mut i, "friction_mode"), 1.0, "the modes change in the master's event mode, not before");
+    assert_eq!(named(&mut i, "state_events"), 1.0, "counted where the step stopped, as a step handling it would");
+    assert!(i.do_step(end.time, 2.5 - end.time).is_ok(), "a master may step on; the next step settles the modes first");
+    let mut i = block_handing_events_to_master();
+    i.do_step(0.0, 1.5).unwrap();
+    let end = i.do_step(1.5, 1.0).unwrap();
+    i.enter_event_mode().unwrap();
+    let info = i.new_discrete_states().unwrap();
+    assert!(info.values_changed, "stuck: v re-initialized to 0");
+    assert_eq!(named(&mut i, "friction_mode"), 0.0);
+    assert_eq!(named(&mut i, "state_events"), 1.0, "not counted twice");
+    i.enter_step_mode().unwrap();
+    let end = i.do_step(end.time, 2.5 - end.time).unwrap();
+    assert_eq!(end, StepEnd { time: 2.5, event: false });
+    assert_eq!(named(&mut i, "v"), 0.0);
+    assert!((named(&mut i, "x") - 3.0).abs() < 1e-9, "{}", named(&mut i, "x"));
+}
+
+#[test]
+fn a_time_event_ends_the_step_early_for_a_master_handling_events() {
+    // Switch: x' = 0 before t_on = 0.35 s, 1 after. The step [0, 0.5] s returns at 0.35 s; the
+    // rest gives x(1) = 0.65 s as a step handling the event itself does.
+    let mut i = Instance::<crate::test_model::Switch>::new("{test}", Logger::silent());
+    i.hand_events_to_master(true, true);
+    i.setup_experiment(None, 0.0, None).unwrap();
+    i.enter_initialization_mode().unwrap();
+    i.exit_initialization_mode().unwrap();
+    i.enter_step_mode().unwrap();
+    let end = i.do_step(0.0, 0.5).unwrap();
+    assert_eq!(end, StepEnd { time: 0.35, event: true });
+    i.enter_event_mode().unwrap();
+    assert_eq!(i.new_discrete_states().unwrap().next_event_time, None, "t_on is passed");
+    i.enter_step_mode().unwrap();
+    assert_eq!(i.do_step(0.35, 0.15).unwrap(), StepEnd { time: 0.5, event: false });
+    i.do_step(0.5, 0.5).unwrap();
+    let mut x = [0.0];
+    i.get(&[1], &mut x).unwrap();
+    assert!((x[0] - 0.65).abs() < 1e-8, "{}", x[0]);
+}
+
+#[test]
+fn without_early_return_or_event_mode_the_step_handles_its_events() {
+    // eventModeUsed without earlyReturnAllowed: the step goes through the event; without
+    // eventModeUsed the instance refuses to enter event mode.
+    let mut i = Instance::<crate::test_model::Block>::for_interface(Interface::CoSimulation, "{test}", Logger::silent());
+    i.hand_events_to_master(true, false);
+    i.setup_experiment(Some(1e-8), 0.0, None).unwrap();
+    i.enter_initialization_mode().unwrap();
+    i.exit_initialization_mode().unwrap();
+    i.enter_step_mode().unwrap();
+    assert_eq!(i.do_step(0.0, 2.5).unwrap(), StepEnd { time: 2.5, event: false });
+    assert_eq!(named(&mut i, "friction_mode"), 0.0);
+    let mut i = block(Interface::CoSimulation);
+    let refused = i.enter_event_mode().unwrap_err();
+    assert!(refused.message.contains("eventModeUsed = false"), "{}", refused.message);
+    assert_eq!(i.phase, Phase::Stepping);
+}

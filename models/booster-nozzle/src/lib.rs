@@ -360,7 +360,7 @@ impl Model for BoosterNozzle {
     fn declare(d: &mut Declarations) -> Self {
         let cylinder = defaults::cylinder();
         let deg = defaults::deg;
-        let profile = d.integer_parameter("profile", 1).range(0, 2).describe(
+        let profile = d.integer_parameter("profile", 1).choices(0, &[("none", "the inputs only"), ("step", "a step of command_amplitude at step_time"), ("sine", "a sine of command_amplitude at sine_frequency from step_time")]).describe(
             "Built-in command: 0 = none (the inputs only), 1 = a step of command_amplitude at step_time, 2 = a sine of command_amplitude at sine_frequency from step_time; \
              split into pitch (cos command_azimuth) and yaw (sin command_azimuth)",
         );

@@ -49,9 +49,9 @@ impl MotorParameters {
         let j_motor = d.parameter("J_motor", 1.72, "kg.m2").positive().tunable().describe("Motor rotor inertia (chapter 3.3.3; book file Chap3_CoolingTowerFan.mo, component inertia_motor)");
         let motor_model = d
             .integer_parameter("motor_model", 1)
-            .range(1, 2)
+            .choices(1, &[("torque_table", "the torque-speed table (the book's files)"), ("equivalent_circuit", "the equivalent circuit's steady state")])
             .describe("Motor torque below level d: 1 = the torque-speed table (the book's files), 2 = the equivalent circuit's steady state (R_s ... L_m)");
-        let table_interpolation = d.integer_parameter("motor_table_interpolation", 0).range(0, 2).describe(
+        let table_interpolation = d.integer_parameter("motor_table_interpolation", 0).choices(0, &[("as_book", "as the book's file for the level"), ("linear", "linear"), ("akima", "Akima (CombiTable1D ContinuousDerivative)")]).describe(
             "Reading of the torque-speed table: 0 = as the book's file for the level (MotorFan: linear at levels a and b as Steady_State and Transient_Dynamic, Akima at c as Transient_Resonance; InductionMotor: Akima), 1 = linear, 2 = Akima (CombiTable1D ContinuousDerivative)",
         );
         let table_speed = std::array::from_fn(|i| {
@@ -75,7 +75,7 @@ impl MotorParameters {
             l_r_sigma: d.parameter("L_r_sigma", 4e-4, "H").positive().tunable().describe("Rotor leakage inductance, referred to the stator (the book's induction machine)"),
             l_m: d.parameter("L_m", 0.012, "H").positive().tunable().describe("Magnetising inductance (the book's induction machine)"),
             pole_pairs: d.parameter("pole_pairs", 1.0, "1").positive().describe("Pole pairs: 1 gives 3000 rpm (314 rad/s) synchronous at 50 Hz, where the book's table reaches zero torque"),
-            winding_connection: d.integer_parameter("winding_connection", 2).range(1, 2).describe(
+            winding_connection: d.integer_parameter("winding_connection", 2).choices(1, &[("star", "each winding sees U_supply / sqrt 3"), ("delta", "each winding sees U_supply (the book's machine)")]).describe(
                 "Stator windings: 1 = star (each winding sees U_supply / sqrt 3), 2 = delta (each sees U_supply; the book's machine, terminalBox.delta in its result files). R_s ... L_m are per winding and stator_current_rms is the winding current",
             ),
             u_supply: d.parameter("U_supply", 230.0, "V").min(0.0).tunable().describe("Supply voltage, line to line, rms (the book's induction machine: VNominal = 230 V, 50 Hz)"),
@@ -296,7 +296,7 @@ impl ControllerParameters {
         ControllerParameters {
             setpoint_filter: d
                 .integer_parameter("setpoint_filter", 1)
-                .range(0, 2)
+                .choices(0, &[("off", "no set-point filter"), ("below", "filter_frequency_below (the book's)"), ("above", "filter_frequency_above")])
                 .describe("Second-order set-point filter (Figure 3.13): 0 = off, 1 = filter_frequency_below (the book's, component secondOrder1), 2 = filter_frequency_above"),
             speed_setpoint: d.parameter("speed_setpoint", 300.0, "rad/s").min(0.0).tunable().describe("Final motor speed of the variable-speed start (book file Chap3_CoolingTowerFan.mo, component timeTable: 300 rad/s)"),
             ramp_time: d.parameter("ramp_time", 10.0, "s").min(0.0).tunable().describe("Duration of the set-point ramp, 0 = a step (chapter and book file Transient_SpeedControler, component timeTable: 10 s; Activity_Index_controller: 20 s)"),

@@ -291,7 +291,7 @@ impl Model for EhaFlightControl {
         let pump = defaults::pump();
         let cylinder = defaults::cylinder();
         EhaFlightControl {
-            level: d.integer_parameter("level", 2).range(1, 2).describe(
+            level: d.integer_parameter("level", 2).choices(1, &[("ideal_transformers", "Table 3.5's ideal transformers only"), ("compressible_oil", "with the oil's compressibility and the leakage across the piston")]).describe(
                 "1 = Table 3.5's ideal transformers only (pump, cylinder and horn one reducer of ratio N = A r / D, rigid oil, the surface \
                  inertia referred to the motor); 2 = with the oil's compressibility (C = V_chamber / (2 B_oil)) and the leakage across the piston (R_leakage)",
             ),

@@ -343,7 +343,7 @@ impl Model for MemsAccelerometer {
 
     fn declare(d: &mut Declarations) -> Self {
         MemsAccelerometer {
-            profile: d.integer_parameter("profile", 1).range(1, 2).describe(
+            profile: d.integer_parameter("profile", 1).choices(1, &[("step", "a step of a_step at t_start"), ("sine", "a sine of a_sine at f_sine from t_start")]).describe(
                 "Built-in frame acceleration added to the input a_frame: 1 a step of a_step at t_start, 2 a sine of amplitude a_sine and frequency f_sine from t_start (a_step or a_sine = 0: the input alone)",
             ),
             a_step: d.parameter("a_step", 10.0 * G_N, "m/s2").describe("Height of the built-in acceleration step (10 g_n; the ADXL50's range is +-50 g)"),

@@ -441,8 +441,8 @@ impl Model for MotorFan {
 
     fn declare(d: &mut Declarations) -> Self {
         MotorFan {
-            level: d.integer_parameter("level", 3).range(1, 4).describe("Modelling level (Figure 3.5): 1 = a quasi-static, 2 = b + inertias, 3 = c + driveshaft elasticity, 4 = d + electrical dynamics"),
-            start_mode: d.integer_parameter("start_mode", 1).range(1, 3).describe("1 = direct on line, 2 = PI speed control, 3 = inverse simulation (imposed speed), Figure 3.7"),
+            level: d.integer_parameter("level", 3).choices(1, &[("a", "quasi-static"), ("b", "a + inertias"), ("c", "b + driveshaft elasticity"), ("d", "c + electrical dynamics")]).describe("Modelling level (Figure 3.5): 1 = a quasi-static, 2 = b + inertias, 3 = c + driveshaft elasticity, 4 = d + electrical dynamics"),
+            start_mode: d.integer_parameter("start_mode", 1).choices(1, &[("direct_on_line", "direct on line"), ("speed_control", "PI speed control"), ("imposed_speed", "inverse simulation (imposed speed)")]).describe("1 = direct on line, 2 = PI speed control, 3 = inverse simulation (imposed speed), Figure 3.7"),
             keep_shaft_stiffness: d.boolean_parameter("keep_shaft_stiffness", true).describe("false: rigid driveshaft at levels c and d (the reduced model of Figure 3.10)"),
             motor: MotorParameters::declare(d),
             shaft: ShaftParameters::declare(d),

@@ -308,7 +308,7 @@ impl Model for ShaftLine {
 
     fn declare(d: &mut Declarations) -> Self {
         ShaftLine {
-            model_reduction: d.integer_parameter("model_reduction", 0).range(0, 2).describe(
+            model_reduction: d.integer_parameter("model_reduction", 0).choices(0, &[("full", "the full model"), ("book_reduced", "the book's reduced model"), ("activity_reduced", "the elements with at least 95 % of the short-circuit activity")]).describe(
                 "0 = the full model; 1 = the book's reduced model (file Chap3_Submarine.mo, ReducedModel: no motor inertia, a rigid shaft; \
                  the motor bearings and the seal kept); 2 = only the elements with at least 95 % of the short-circuit activity \
                  (armature R and L, propeller inertia and load: no bearings, no seal either)",
@@ -316,7 +316,7 @@ impl Model for ShaftLine {
             voltage_from_input: d.boolean_parameter("voltage_from_input", false).describe(
                 "false: the built-in supply profile (ramp, plateau, short circuit); true: the supply voltage is the input U_supply_in",
             ),
-            emf_constant: d.integer_parameter("emf_constant", 1).range(1, 2).describe(
+            emf_constant: d.integer_parameter("emf_constant", 1).choices(1, &[("k_emf", "the machine constant is k_emf (book file)"), ("rated_point", "derived from the rated point (eq. 3.9)")]).describe(
                 "1 = the machine constant is k_emf (book file Chap3_Submarine.mo, component emf); \
                  2 = derived from the rated point U_rated, T_rated, speed_rated through R_armature (eq. 3.9)",
             ),
@@ -338,7 +338,7 @@ impl Model for ShaftLine {
             speed_propeller_nominal: d.parameter("speed_propeller_nominal", BOOK_PROPELLER_SPEED, "rad/s").positive().describe(
                 "Speed at which the propeller absorbs T_propeller_nominal (book file: 120*2*3.14/60 = 12.56 rad/s, pi written 3.14)",
             ),
-            propeller_law: d.integer_parameter("propeller_law", 1).range(1, 2).describe(
+            propeller_law: d.integer_parameter("propeller_law", 1).choices(1, &[("against_rotation", "T = a w |w| (book file, FullModel)"), ("squared", "T = a w^2 in both directions (book file, ReducedModel)")]).describe(
                 "1 = T = a w |w|, against the rotation both ways (book file, FullModel: TorqueDirection = false); \
                  2 = T = a w^2 in both directions, driving a backwards rotation (book file, ReducedModel: TorqueDirection = true)",
             ),

@@ -107,11 +107,11 @@ impl Driver {
         Driver {
             driver_input: d
                 .integer_parameter("driver_input", 1)
-                .range(1, 2)
+                .choices(1, &[("angle", "the driver imposes the steering-wheel angle"), ("torque", "the driver's torque")])
                 .describe("1 = the driver imposes the steering-wheel angle (profile + angle_in) through the arm's stiffness; 2 = the driver's torque torque_in"),
             profile: d
                 .integer_parameter("profile", 1)
-                .range(1, 2)
+                .choices(1, &[("parking", "parking manoeuvre (the book's mission)"), ("sine_steer", "sine steer")])
                 .describe("The driver's profile, a sine: 1 = parking manoeuvre (the book's mission: one turn each way at 1/16 Hz), 2 = sine steer; an angle (driver_input = 1) or a torque of torque_amplitude (2). Set its amplitude to 0 to drive through angle_in or torque_in alone"),
             parking_amplitude: d.parameter("parking_amplitude", 2.0 * 3.14, "rad").min(0.0).describe(&book("Steering_mission, sine amplitude 2*3.14", "Steering-wheel amplitude of the parking manoeuvre")),
             parking_frequency: d.parameter("parking_frequency", 1.0 / 16.0, "Hz").min(0.0).describe(&book("Steering_mission, sine freqHz 1/16", "Frequency of the parking manoeuvre")),
