@@ -58,7 +58,7 @@ fn fmi3_do_step_allocates_nothing_in_steady_steps() {
     let e = exported();
     let token = std::ffi::CString::new(e.of_standard(Standard::Fmi3).token.clone()).unwrap();
     unsafe {
-        let c = f::instantiate::<MotorFan>(e, Interface::CoSimulation, c"mf".as_ptr(), token.as_ptr(), std::ptr::null_mut(), false, None);
+        let c = f::instantiate::<MotorFan>(e, Interface::CoSimulation, c"mf".as_ptr(), token.as_ptr(), std::ptr::null_mut(), false, None, (false, false));
         assert!(!c.is_null());
         assert_eq!(f::enter_initialization_mode::<MotorFan>(c, 0, 0.0, 0.0, 0, 0.0), fmi3OK);
         assert_eq!(f::exit_initialization_mode::<MotorFan>(c), fmi3OK);
