@@ -3,7 +3,7 @@
 
 use crate::description::{real_text, Document, ModelDescription};
 use crate::integrate::{declared_tolerance, ABSOLUTE_PER_RELATIVE, MAX_INTERNAL_STEPS};
-use crate::model::{Model, Solver};
+use crate::model::Model;
 use crate::variables::{Causality, Start, Variable};
 
 /// Escapes text for HTML.
@@ -140,10 +140,7 @@ pub fn html<M: Model>(d: &ModelDescription, document: &Document, w: &Words) -> S
         .iter()
         .filter(|v| v.causality == Causality::Local && v.derivative_of.is_none() && !states.iter().any(|s| s.value_reference == v.value_reference))
         .collect();
-    let solver = match info.solver {
-        Solver::ExplicitRungeKutta => "explicit Runge-Kutta, Tsitouras 5(4) (diffsol <code>tsit45</code>)",
-        Solver::ImplicitRungeKutta => "singly diagonally implicit Runge-Kutta ESDIRK3(4) (diffsol <code>esdirk34</code>)",
-    };
+    let solver = crate::stepper::description(info.solver);
     let e = info.default_experiment;
     format!(
         r#"<!DOCTYPE html>

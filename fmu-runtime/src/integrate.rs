@@ -7,45 +7,58 @@
 //! over the step (zero-order hold) unless the master gave their derivatives
 //! (fmi2SetRealInputDerivatives), then they follow u + u' (t - t_k) + u'' (t - t_k)^2 / 2.
 //!
-//! The explicit method is our own stepper ([`crate::rk::Tsit`], diffsol's tsit45 coefficients).
-//! While no known moves it steps past the communication point with its natural step size (not
-//! past `limit`: the next time event, a defined stop time) and interpolates the state there on
-//! its continuous extension; the next `advance` continues that step — by interpolation alone
-//! while its end lies beyond the next communication point — as long as it starts from exactly
-//! the point the last one reached and the parameter vector is the same (it is canonical: see
-//! `fill_parameters`). Otherwise it restarts from (t, x, f(t, x)) with the step size reached.
-//! What a continuation depends on — the step and the parameter vector ([`Lookahead`]), the step
-//! size — goes into FMU states, so that a restored (or deserialized) state continues
-//! bit-identically. The implicit solver (diffsol's esdirk34) is made afresh for every advance
-//! and stops at the communication point. The instance keeps its own exact time.
+//! The solver methods are in [`crate::stepper`], one file each behind one interface
+//! ([`Stepper`], [`Method`]); what is the same for all of them is here and in
+//! [`crate::stepper::events`], written once: `Integrator::advance` decides whether the stepper
+//! continues its last step or starts afresh from (t, x, f(t, x)) with the step size reached (a
+//! step too short to resolve is one Euler step), and `step_until` steps, looks for zero
+//! crossings and interpolates at the communication point.
+//!
+//! Lookahead (the explicit method, our own stepper [`crate::rk::Tsit`], diffsol's tsit45
+//! coefficients): while no known moves, a method that looks ahead steps past the communication
+//! point with its natural step size (not past `limit`: the next time event, a defined stop time)
+//! and interpolates the state there on its continuous extension; the next `advance` continues
+//! that step — by interpolation alone while its end lies beyond the next communication point —
+//! as long as it starts from exactly the point the last one reached and the parameter vector is
+//! the same (it is canonical: see `fill_parameters`). Otherwise it restarts. What a
+//! continuation depends on — the step and the parameter vector ([`Lookahead`]), the step size —
+//! goes into FMU states, so that a restored (or deserialized) state continues bit-identically.
+//! A method that does not look ahead (the implicit one, diffsol's esdirk34, made afresh for
+//! every advance) stops at the communication point. The instance keeps its own exact time.
 //!
 //! State events: a model with event indicators gets them evaluated after every accepted internal
 //! step (with the modes of this segment, which hold over it). Where one changes sign — from > 0
 //! to <= 0 or from < 0 to >= 0; a zero at the start of a segment is no crossing, its sign is taken
-//! from the next step — the crossing is located by the Illinois method on the solver's dense
+//! from the next step — the crossing is located by the Illinois method on the stepper's dense
 //! output of that step, to `ROOT_TIME_TOLERANCE`, and `advance` stops there, on the far side
 //! of the crossing (the side where the indicator has changed sign), so the instance updates the
 //! modes and restarts the solver from that point. The equations stay smooth inside a segment
 //! (the modes only change between segments), so the dense output past the crossing is accurate.
+//! A step reaching past the communication point is searched only up to it: a crossing beyond is
+//! the next communication step's.
 
 use std::sync::Arc;
 
 use diffsol::{
-    ConstantOp, NalgebraContext, NalgebraLU, NalgebraMat, NalgebraVec, NonLinearOp, NonLinearOpJacobian, OdeBuilder,
-    OdeEquations, OdeEquationsRef, OdeSolverMethod, OdeSolverProblem, OdeSolverState, OdeSolverStopReason, Op, ParameterisedOp,
-    RkState, UnitCallable, Vector, VectorCommon,
+    ConstantOp, NalgebraContext, NalgebraMat, NalgebraVec, NonLinearOp, NonLinearOpJacobian, OdeBuilder, OdeEquations, OdeEquationsRef,
+    OdeSolverProblem, Op, ParameterisedOp, UnitCallable, Vector, VectorCommon,
 };
-use diffsol::ode_solver::state::StateCommon;
 
 use crate::model::{Model, Solver};
-use crate::rk::{StepRecord, Tsit};
+use crate::rk::StepRecord;
+use crate::stepper::events::{step_until, Ends, Events, RootScratch};
+use crate::stepper::{self, Method, Ode, Setup, Stepper};
 use crate::values::{Derivatives, EventIndicators, Knowns};
 
 type Mat = NalgebraMat<f64>;
-type Vect = NalgebraVec<f64>;
-type RhsFn = Box<dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync>;
+/// diffsol's vector type as the solvers use it.
+pub(crate) type Vect = NalgebraVec<f64>;
+/// A model's right-hand side f(x, p, t) -> dx.
+pub(crate) type RhsDyn = dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync;
+type RhsFn = Box<RhsDyn>;
 type JacFn = Box<dyn Fn(&[f64], &[f64], f64, &[f64], &mut [f64]) + Send + Sync>;
-type IndicatorDyn = dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync;
+/// A model's event indicators g(x, p, t) -> z.
+pub(crate) type IndicatorDyn = dyn Fn(&[f64], &[f64], f64, &mut [f64]) + Send + Sync;
 type IndicatorFn = Box<IndicatorDyn>;
 type Unit = UnitCallable<Mat>;
 
@@ -294,10 +307,7 @@ pub enum Advanced {
     Crossing { time: f64, indicator: usize },
 }
 
-/// Whether an indicator going from `a` to `b` crossed zero (a zero at `a` is no crossing).
-pub fn crossed(a: f64, b: f64) -> bool {
-    (a > 0.0 && b <= 0.0) || (a < 0.0 && b >= 0.0)
-}
+pub use crate::stepper::events::crossed;
 
 /// The explicit solver's last step, reaching past the communication point, and the parameter
 /// vector (knowns, their motion) it was taken with: what an FMU state carries so that a
@@ -315,15 +325,16 @@ pub fn parameters_len(n_known: usize) -> usize {
 
 /// One instance's ODE integrator.
 pub struct Integrator {
-    /// The problem (diffsol's; its parameter vector is kept equal to `p`): the implicit method
-    /// is made from it for every advance; the explicit one uses it for its first step size.
+    /// The problem (diffsol's; its parameter vector is kept equal to `p`): diffsol's methods are
+    /// made from it, and every method takes its first step size from it.
     problem: OdeSolverProblem<Equations>,
     rhs: RhsFn,
     /// The model's event indicators, with the modes fixed when this integrator was made.
     indicators: Option<IndicatorFn>,
     n_indicators: usize,
     n_known: usize,
-    method: Solver,
+    /// The solver method's per-instance part ([`crate::stepper`]).
+    method: Box<dyn Method>,
     rtol: f64,
     atol: Vec<f64>,
     /// The known-reals slots of the state start values (zero in the parameter vector).
@@ -331,22 +342,19 @@ pub struct Integrator {
     /// The parameter vector set in the problem, and the next one (a buffer).
     p: Vec<f64>,
     p_next: Vec<f64>,
-    /// The explicit method's stepper (None for the implicit method).
-    tsit: Option<Tsit>,
     /// The states whose rate `rhs` gives as a signed power, to integrate in absolute value.
     quadrature: Vec<bool>,
-    /// Whether the next advance may continue the explicit stepper's last step: the last advance
-    /// ended inside it or at its end (at `reached`, with the state `y_end` interpolated there)
-    /// and the parameter vector has not changed since.
+    /// Whether the next advance may continue the stepper's last step: the last advance ended
+    /// inside it or at its end (at `reached`, with the state `y_end` interpolated there), the
+    /// method looks ahead, and the parameter vector has not changed since.
     resume: bool,
     /// Where the last advance ended.
     reached: f64,
-    /// Buffers: the state an advance reached, an interpolated state, event indicators.
+    /// Buffers: the state an advance reached, event indicators.
     y_end: Vec<f64>,
-    y_work: Vect,
     z: Vec<f64>,
     z_prev: Vec<f64>,
-    /// The explicit method's zero-crossing search buffers.
+    /// The zero-crossing search's buffers.
     roots: RootScratch,
     /// The size of the solver's next step (None before the first step: diffsol's starting-step
     /// heuristic then chooses).
@@ -369,12 +377,14 @@ impl Integrator {
         state_known: &[usize],
         activities: &[usize],
     ) -> Result<Self, String> {
+        let atol: Vec<f64> = nominals.iter().map(|n| ABSOLUTE_PER_RELATIVE * rtol * n.abs().max(f64::MIN_POSITIVE)).collect();
+        let method = stepper::make(method, &Setup { n_states, rtol, atol: &atol, activities });
         let integers: Arc<[i32]> = integers.into();
         let booleans: Arc<[bool]> = booleans.into();
         let indicators = (n_indicators > 0)
             .then(|| Box::new(indicators_of(model.clone(), integers.clone(), booleans.clone(), known.len())) as IndicatorFn);
-        // The explicit stepper integrates activities as quadratures of their signed power.
-        let quadratures = method == Solver::ExplicitRungeKutta;
+        // A method that integrates activities as quadratures gets their signed power.
+        let quadratures = method.integrates_activities();
         let f = rhs_of(model, integers, booleans, known.len(), quadratures);
         let f_jac = f.clone();
         // Jacobian-vector product by a forward difference along v (exact Jacobians come with
@@ -396,7 +406,6 @@ impl Integrator {
             }
         });
         let rhs: RhsFn = Box::new(f.clone());
-        let atol: Vec<f64> = nominals.iter().map(|n| ABSOLUTE_PER_RELATIVE * rtol * n.abs().max(f64::MIN_POSITIVE)).collect();
         let zeros = vec![0.0; known.len()];
         let mut p = Vec::with_capacity(3 * known.len() + 2);
         fill_parameters(&mut p, known, &InputMotion::still(&zeros), state_known);
@@ -408,7 +417,6 @@ impl Integrator {
             .p(p.clone())
             .build_from_eqn(eqn)
             .map_err(|e| format!("could not set up the ODE solver: {e}"))?;
-        let tsit = (method == Solver::ExplicitRungeKutta).then(|| Tsit::new(n_states, rtol, &atol).with_quadratures(activities));
         let mut quadrature = vec![false; n_states];
         if quadratures {
             activities.iter().for_each(|&a| quadrature[a] = true);
@@ -425,12 +433,10 @@ impl Integrator {
             state_known: state_known.to_vec(),
             p_next: Vec::with_capacity(p.len()),
             p,
-            tsit,
             quadrature,
             resume: false,
             reached: f64::NAN,
             y_end: Vec::with_capacity(n_states),
-            y_work: Vect::zeros(n_states, ctx),
             z: vec![0.0; n_indicators],
             z_prev: vec![0.0; n_indicators],
             roots: RootScratch::new(n_states, n_indicators),
@@ -438,14 +444,14 @@ impl Integrator {
         })
     }
 
-    /// The explicit stepper's last step and the parameter vector it was taken with, while the
-    /// next advance would continue it (then an FMU state must carry them, for a restored
-    /// instance to continue the same way); else None.
+    /// The stepper's last step and the parameter vector it was taken with, while the next
+    /// advance would continue it (then an FMU state must carry them, for a restored instance to
+    /// continue the same way); else None.
     pub fn lookahead(&self) -> Option<Lookahead> {
-        match &self.tsit {
-            Some(tsit) if self.resume => Some(Lookahead { step: tsit.last.clone(), parameters: self.p.clone() }),
-            _ => None,
+        if !self.resume {
+            return None;
         }
+        self.method.saved_step().map(|step| Lookahead { step, parameters: self.p.clone() })
     }
 
     /// Continues from a saved [`lookahead`](Self::lookahead): the state `x` at `t` was reached
@@ -455,25 +461,26 @@ impl Integrator {
         if lookahead.parameters.len() != self.p.len() || lookahead.step.y_end.len() != x.len() {
             return;
         }
-        if let (Some(tsit), Some(h)) = (self.tsit.as_mut(), self.step_size) {
-            tsit.resume(&lookahead.step, h);
-            if !same_bits(&lookahead.parameters, &self.p) {
-                self.p.copy_from_slice(&lookahead.parameters);
-                let ctx = *self.problem.context();
-                self.problem.eqn_mut().set_params(&Vect::from_slice(&self.p, ctx));
-            }
-            self.reached = t;
-            self.y_end.clear();
-            self.y_end.extend_from_slice(x);
-            self.resume = true;
+        let Some(h) = self.step_size else { return };
+        if !self.method.resume(&lookahead.step, h) {
+            return;
         }
+        if !same_bits(&lookahead.parameters, &self.p) {
+            self.p.copy_from_slice(&lookahead.parameters);
+            let ctx = *self.problem.context();
+            self.problem.eqn_mut().set_params(&Vect::from_slice(&self.p, ctx));
+        }
+        self.reached = t;
+        self.y_end.clear();
+        self.y_end.extend_from_slice(x);
+        self.resume = true;
     }
 
     /// Advances `x` from `t0` to `t1` with the knowns at `known` moving as `motion` says, or
-    /// to the first zero crossing of an event indicator before `t1`. The explicit method may
-    /// step past `t1`, up to `limit` (the next time event, a defined stop time), when no known
-    /// moves, and interpolates the state at `t1`; a later advance from there continues that
-    /// step while nothing changed. On error `x` is left unchanged and the message says why
+    /// to the first zero crossing of an event indicator before `t1`. A method that looks ahead
+    /// may step past `t1`, up to `limit` (the next time event, a defined stop time), when no
+    /// known moves, and interpolates the state at `t1`; a later advance from there continues
+    /// that step while nothing changed. On error `x` is left unchanged and the message says why
     /// (reported through the FMI logger).
     ///
     /// `knowns_set`: whether a known may have changed since the last advance (set by the master,
@@ -497,10 +504,7 @@ impl Integrator {
             self.p_next = p;
         }
         let resume = std::mem::replace(&mut self.resume, false);
-        let (how, resume) = match self.method {
-            Solver::ExplicitRungeKutta => self.advance_explicit(resume, t0, x, t1, limit, budget)?,
-            Solver::ImplicitRungeKutta => self.advance_implicit(t0, x, t1, budget)?,
-        };
+        let (how, resume) = self.advance_method(resume, t0, x, t1, limit, budget)?;
         let t_reached = match how {
             Advanced::Reached => t1,
             Advanced::Crossing { time, .. } => time,
@@ -512,168 +516,56 @@ impl Integrator {
         Ok(how)
     }
 
-    /// One explicit Euler step into `y_end`: for a step so short that t0 + h rounds to t0
-    /// (relative to t0), which no solver step can resolve; exact to O(h^2) there.
-    fn euler(&mut self, t0: f64, x0: &[f64], t1: f64) {
-        self.y_end.clear();
-        self.y_end.resize(x0.len(), 0.0);
-        (self.rhs)(x0, &self.p, t0, &mut self.y_end);
-        for ((y, x), q) in self.y_end.iter_mut().zip(x0).zip(&self.quadrature) {
-            *y = x + (t1 - t0) * if *q { y.abs() } else { *y };
-        }
-    }
-
-    /// The explicit method (Tsitouras 5(4), [`Tsit`]). It continues its last step when the
-    /// last advance ended inside it at exactly (t0, x0) and nothing changed since; otherwise it
-    /// restarts from (t0, x0, f(t0, x0)) with the step size reached. Either way everything it
+    /// One advance of the method, whichever it is. It continues the stepper's last step when the
+    /// method looks ahead, the last advance ended inside that step at exactly (t0, x0), and
+    /// nothing changed since; otherwise it starts afresh from (t0, x0, f(t0, x0)) with the step
+    /// size reached (a step too short to resolve is one Euler step). Either way everything it
     /// starts from is in the FMU state (the instance's t and x, the step size and, when it
     /// continues, the step: [`lookahead`](Self::lookahead)), so a restored instance continues
     /// bit-identically. Returns how it ended and whether the next advance may continue.
-    fn advance_explicit(&mut self, resume: bool, t0: f64, x0: &[f64], t1: f64, limit: f64, budget: &mut usize) -> Result<(Advanced, bool), String> {
+    fn advance_method(&mut self, resume: bool, t0: f64, x0: &[f64], t1: f64, limit: f64, budget: &mut usize) -> Result<(Advanced, bool), String> {
         // A moving input's motion is only the master's word for this communication step.
         let moving = self.p[3 * self.n_known + 1] != 0.0;
-        let limit = if moving { t1 } else { limit.max(t1) };
-        let resume = resume
-            && self.tsit.as_ref().is_some_and(|s| s.has_step && s.last.t_end <= limit)
-            && (t0 - self.reached).abs() <= negligible_interval(t0)
-            && same_bits(x0, &self.y_end);
-        if !resume && t1 - t0 <= negligible_interval(t0) {
-            self.euler(t0, x0, t1);
-            return Ok((Advanced::Reached, false));
-        }
-        let Integrator { problem, rhs, indicators, n_indicators, rtol, atol, p, tsit, y_end, z, z_prev, roots, step_size, .. } = self;
-        let tsit = tsit.as_mut().ok_or("the explicit solver is missing")?;
-        let p: &[f64] = p;
-        if !resume {
-            tsit.restart(t0, x0, |y, t, dy| rhs(y, p, t, dy), step_size.unwrap_or(problem.h0));
-            if step_size.is_none() {
-                let ctx = *problem.context();
-                let mut state = rk_state(Vect::from_slice(x0, ctx), Vect::from_slice(tsit.current_derivative(), ctx), t0, problem.h0);
-                state.as_mut().set_step_size(problem.h0, &Vect::from_slice(atol, ctx), *rtol, &problem.eqn, 4);
-                tsit.h = state.as_ref().h;
+        let Integrator { problem, rhs, indicators, n_indicators, method, rtol, atol, p, quadrature, reached, y_end, z, z_prev, roots, step_size, .. } = self;
+        let (rhs, p, reached): (&RhsDyn, &[f64], f64) = (&**rhs, p, *reached);
+        let ode = Ode { problem, rhs, p, atol, rtol: *rtol };
+        let events = indicators.as_ref().map(|g| Events { g: &**g, p, n: *n_indicators });
+        method.with_stepper(ode, &mut |stepper: &mut dyn Stepper| {
+            let looks_ahead = stepper.looks_ahead() && !moving;
+            let limit = if looks_ahead { limit.max(t1) } else { t1 };
+            let resume = resume
+                && stepper.has_step()
+                && stepper.last_step().1 <= limit
+                && (t0 - reached).abs() <= negligible_interval(t0)
+                && same_bits(x0, y_end);
+            if !resume && t1 - t0 <= negligible_interval(t0) {
+                euler(rhs, p, quadrature, t0, x0, t1, y_end);
+                return Ok((Advanced::Reached, false));
             }
-        }
-        let events = indicators.as_ref().map(|g| Events { g: &**g, p, n: *n_indicators });
-        let mut f = |y: &[f64], t: f64, dy: &mut [f64]| rhs(y, p, t, dy);
-        let result = run_explicit(tsit, &mut f, events.as_ref(), t1, limit, y_end, z, z_prev, roots, budget);
-        *step_size = Some(tsit.h);
-        // With moving inputs the step ends at t1 anyway; the next one restarts with the
-        // master's next motion.
-        result.map(|(how, resume)| (how, resume && !moving))
-    }
-
-    /// The implicit method (esdirk34): made afresh from (t0, x0, f(t0, x0), step size) for every
-    /// call, with its stop time at t1. Kept alive, its Newton iteration and Jacobian would carry
-    /// over from the previous step, so a restored FMU state would not continue bit-identically
-    /// (and the shared design saw a kept esdirk34 fail at a stop time).
-    fn advance_implicit(&mut self, t0: f64, x0: &[f64], t1: f64, budget: &mut usize) -> Result<(Advanced, bool), String> {
-        if t1 - t0 <= negligible_interval(t0) {
-            self.euler(t0, x0, t1);
-            return Ok((Advanced::Reached, false));
-        }
-        let Integrator { problem, rhs, indicators, n_indicators, rtol, atol, p, y_end, y_work, z, z_prev, step_size, .. } = self;
-        let ctx = *problem.context();
-        let mut dx = vec![0.0; x0.len()];
-        rhs(x0, p, t0, &mut dx);
-        let mut state = rk_state(Vect::from_slice(x0, ctx), Vect::from_vec(dx, ctx), t0, step_size.unwrap_or(problem.h0));
-        if step_size.is_none() {
-            let atol = Vect::from_slice(atol, ctx);
-            state.as_mut().set_step_size(problem.h0, &atol, *rtol, &problem.eqn, 3);
-        }
-        let events = indicators.as_ref().map(|g| Events { g: &**g, p, n: *n_indicators });
-        let buffers = Buffers { y_end, y_work, z, z_prev };
-        let mut solver = problem.esdirk34_solver::<NalgebraLU<f64>>(state).map_err(|e| e.to_string())?;
-        let (h, how) = run_to(&mut solver, t0, x0, t1, events.as_ref(), buffers, budget)?;
-        *step_size = Some(h);
-        Ok((how, false))
+            if !resume {
+                stepper.start(t0, x0, *step_size, limit)?;
+            }
+            let ends = Ends { y_end, z, z_prev, roots };
+            let result = step_until(stepper, events.as_ref(), t1, limit, ends, budget);
+            if result.is_ok() || stepper.keeps_step_size_on_failure() {
+                *step_size = Some(stepper.step_size());
+            }
+            // With moving inputs the step ends at t1 anyway; the next one restarts with the
+            // master's next motion.
+            result.map(|(how, resume)| (how, resume && looks_ahead))
+        })
     }
 }
 
-/// Steps the explicit stepper until its last step reaches `t1` (it may end past it, not past
-/// `limit`), interpolates the state at `t1` into `y_end`, or stops at the first zero crossing of
-/// an event indicator before `t1`. A step reaching past `t1` whose indicators cross zero only
-/// after `t1` is not continued: that event is the next communication step's, which restarts
-/// from `t1` and locates it. Returns how it ended and whether the next advance may continue the
-/// last step.
-#[allow(clippy::too_many_arguments)]
-fn run_explicit(
-    tsit: &mut Tsit,
-    f: &mut impl FnMut(&[f64], f64, &mut [f64]),
-    events: Option<&Events>,
-    t1: f64,
-    limit: f64,
-    y_end: &mut Vec<f64>,
-    z: &mut [f64],
-    z_prev: &mut [f64],
-    scratch: &mut RootScratch,
-    budget: &mut usize,
-) -> Result<(Advanced, bool), String> {
-    let n = tsit.last.y_end.len();
+/// One explicit Euler step into `y_end`: for a step so short that t0 + h rounds to t0
+/// (relative to t0), which no solver step can resolve; exact to O(h^2) there.
+fn euler(rhs: &RhsDyn, p: &[f64], quadrature: &[bool], t0: f64, x0: &[f64], t1: f64, y_end: &mut Vec<f64>) {
     y_end.clear();
-    y_end.resize(n, 0.0);
-    if tsit.has_step && t1 <= tsit.last.t_end {
-        // The last step already covers t1 (and was checked for crossings in full).
-        tsit.interpolate(t1, y_end);
-        return Ok((Advanced::Reached, true));
+    y_end.resize(x0.len(), 0.0);
+    rhs(x0, p, t0, y_end);
+    for ((y, x), q) in y_end.iter_mut().zip(x0).zip(quadrature) {
+        *y = x + (t1 - t0) * if *q { y.abs() } else { *y };
     }
-    // The indicators at the current point; a zero takes its sign from the next point.
-    if let Some(ev) = events {
-        ev.into(tsit.last.t_end, &tsit.last.y_end, z_prev);
-    }
-    while *budget > 0 {
-        *budget -= 1;
-        if let Err(e) = tsit.step(limit, f) {
-            return Err(format!("the ODE solver failed: {e}"));
-        }
-        let (ta, tb) = (tsit.last.t_start, tsit.last.t_end);
-        if let Some(ev) = events {
-            ev.into(tb, &tsit.last.y_end, z);
-            let stepper: &Tsit = tsit;
-            let mut state_at = |t: f64, y: &mut [f64]| -> Result<(), String> {
-                stepper.interpolate(t, y);
-                Ok(())
-            };
-            if let Some(found) = first_crossing(&mut state_at, ev, ta, z_prev, tb, z, &stepper.last.y_end, scratch)? {
-                let found = if tb <= t1 {
-                    Some(found)
-                } else {
-                    // Only a crossing before t1 belongs to this communication step: the same
-                    // search on [ta, t1], as if the step had stopped at t1.
-                    stepper.interpolate(t1, y_end);
-                    ev.into(t1, y_end, z);
-                    first_crossing(&mut state_at, ev, ta, z_prev, t1, z, y_end, scratch)?
-                };
-                return Ok(match found {
-                    Some((time, indicator)) => {
-                        y_end.copy_from_slice(&scratch.y_root);
-                        (Advanced::Crossing { time, indicator }, false)
-                    }
-                    None => (Advanced::Reached, false),
-                });
-            }
-            for (zp, zi) in z_prev.iter_mut().zip(z.iter()) {
-                if *zi != 0.0 || *zp == 0.0 {
-                    *zp = *zi;
-                }
-            }
-        }
-        if t1 <= tb {
-            tsit.interpolate(t1, y_end);
-            return Ok((Advanced::Reached, true));
-        }
-    }
-    Err(format!(
-        "the ODE solver needed more than {MAX_INTERNAL_STEPS} internal steps in one communication step to reach t = {t1} s \
-         (stopped at t = {} s); the model may be too stiff for its solver or unstable",
-        tsit.last.t_end
-    ))
-}
-
-/// A Runge-Kutta solver's state (y, dy = f(t, y), t, h), without outputs or sensitivities.
-fn rk_state(y: Vect, dy: Vect, t: f64, h: f64) -> RkState<Vect> {
-    let ctx = *y.context();
-    let empty = || Vect::zeros(0, ctx);
-    RkState::new_from_common(StateCommon { y, dy, g: empty(), dg: empty(), s: empty(), ds: empty(), sg: empty(), dsg: empty(), t, h })
 }
 
 fn check_finite(x: &[f64], t: f64) -> Result<(), String> {
@@ -681,190 +573,4 @@ fn check_finite(x: &[f64], t: f64) -> Result<(), String> {
         Some(i) => Err(format!("state {i} became {} at t = {t} s", x[i])),
         None => Ok(()),
     }
-}
-
-/// The event indicators of one advance: g(x, p, t, z) with its parameter vector.
-struct Events<'a> {
-    g: &'a IndicatorDyn,
-    p: &'a [f64],
-    n: usize,
-}
-
-impl Events<'_> {
-    fn into(&self, t: f64, y: &[f64], z: &mut [f64]) {
-        (self.g)(y, self.p, t, z);
-    }
-}
-
-/// Buffers of `run_to`, kept in the integrator: the state reached (its result), an
-/// interpolated state, the event indicators at the current and the last accepted point.
-struct Buffers<'a> {
-    y_end: &'a mut Vec<f64>,
-    y_work: &'a mut Vect,
-    z: &'a mut Vec<f64>,
-    z_prev: &'a mut Vec<f64>,
-}
-
-/// Steps a solver from (t0, x0) until its stop time `t1` or the first zero crossing of an event
-/// indicator; leaves the state there in `buffers.y_end` and returns the step size reached and
-/// how it ended.
-fn run_to<'a, S>(solver: &mut S, t0: f64, x0: &[f64], t1: f64, events: Option<&Events>, buffers: Buffers, budget: &mut usize) -> Result<(f64, Advanced), String>
-where
-    S: OdeSolverMethod<'a, Equations>,
-{
-    let Buffers { y_end, y_work, z, z_prev } = buffers;
-    solver.set_stop_time(t1).map_err(|e| format!("could not set the stop time {t1} s: {e}"))?;
-    // The indicators at the last accepted point; a zero takes its sign from the next point.
-    if let Some(ev) = events {
-        ev.into(t0, x0, z_prev);
-    }
-    let mut t_prev = t0;
-    while *budget > 0 {
-        *budget -= 1;
-        match solver.step() {
-            Ok(reason) => {
-                let stopped = matches!(reason, OdeSolverStopReason::TstopReached);
-                let (h, t_solver) = {
-                    let state = solver.state();
-                    (state.h, state.t)
-                };
-                // Trust our own t1, not the solver's rounding of it.
-                let interpolated = stopped && t_solver != t1;
-                if interpolated && solver.interpolate_inplace(t1, y_work).is_err() {
-                    y_work.copy_from(solver.state().y);
-                }
-                let t = if stopped { t1 } else { t_solver };
-                let state = solver.state();
-                let y: &[f64] = if interpolated { y_work.inner().as_slice() } else { state.y.inner().as_slice() };
-                if let Some(ev) = events {
-                    ev.into(t, y, z);
-                    let mut dense = |t: f64, out: &mut [f64]| -> Result<(), String> {
-                        let v = solver.interpolate(t).map_err(|e| format!("could not interpolate the state at t = {t} s: {e}"))?;
-                        out.copy_from_slice(v.inner().as_slice());
-                        Ok(())
-                    };
-                    // The implicit method is made afresh for every advance anyway: a scratch of its own.
-                    let mut scratch = RootScratch::default();
-                    if let Some((time, indicator)) = first_crossing(&mut dense, ev, t_prev, z_prev, t, z, y, &mut scratch)? {
-                        y_end.clear();
-                        y_end.extend_from_slice(&scratch.y_root);
-                        return Ok((h, Advanced::Crossing { time, indicator }));
-                    }
-                    for (zp, zi) in z_prev.iter_mut().zip(z.iter()) {
-                        if *zi != 0.0 || *zp == 0.0 {
-                            *zp = *zi;
-                        }
-                    }
-                }
-                t_prev = t;
-                if stopped {
-                    y_end.clear();
-                    y_end.extend_from_slice(y);
-                    return Ok((h, Advanced::Reached));
-                }
-            }
-            Err(e) => {
-                return Err(format!("the ODE solver failed at t = {} s: {e}", solver.state().t));
-            }
-        }
-    }
-    Err(format!(
-        "the ODE solver needed more than {MAX_INTERNAL_STEPS} internal steps in one communication step to reach t = {t1} s \
-         (stopped at t = {} s); the model may be too stiff for its solver or unstable",
-        solver.state().t
-    ))
-}
-
-/// Work vectors of [`first_crossing`], kept between calls so that the search allocates nothing:
-/// a trial state and its indicators, the state at the bracket's crossed end, and the result.
-#[derive(Default)]
-struct RootScratch {
-    y_trial: Vec<f64>,
-    z_trial: Vec<f64>,
-    y_hi: Vec<f64>,
-    /// The state just past the crossing found by the last successful search.
-    y_root: Vec<f64>,
-}
-
-impl RootScratch {
-    /// Sized for `n_states` states and `n_indicators` indicators up front, so that the first
-    /// search after the integrator is made (at an event) does not allocate either.
-    fn new(n_states: usize, n_indicators: usize) -> Self {
-        let states = || Vec::with_capacity(n_states);
-        RootScratch { y_trial: states(), z_trial: Vec::with_capacity(n_indicators), y_hi: states(), y_root: states() }
-    }
-}
-
-/// The earliest zero crossing within the last step [ta, tb] (indicators za at ta, zb at tb, state
-/// yb at tb), located by the Illinois method on the solver's dense output `dense(t, y)`: (time
-/// just past the crossing, indicator), with the state there in `scratch.y_root`; or None.
-#[allow(clippy::too_many_arguments)]
-fn first_crossing(
-    dense: &mut dyn FnMut(f64, &mut [f64]) -> Result<(), String>,
-    ev: &Events,
-    ta: f64,
-    za: &[f64],
-    tb: f64,
-    zb: &[f64],
-    yb: &[f64],
-    scratch: &mut RootScratch,
-) -> Result<Option<(f64, usize)>, String> {
-    let RootScratch { y_trial, z_trial, y_hi, y_root } = scratch;
-    y_trial.resize(yb.len(), 0.0);
-    z_trial.resize(ev.n, 0.0);
-    let mut best: Option<(f64, usize)> = None;
-    for j in 0..ev.n {
-        if !crossed(za[j], zb[j]) {
-            continue;
-        }
-        // Bracket: g(lo) on the start side (za's sign), g(hi) crossed.
-        let (mut lo, mut g_lo) = (ta, za[j]);
-        let (mut hi, mut g_hi) = (tb, zb[j]);
-        y_hi.clear();
-        y_hi.extend_from_slice(yb);
-        let tol = ROOT_TIME_TOLERANCE * tb.abs().max(1.0);
-        let mut side = 0i8;
-        for _ in 0..200 {
-            if hi - lo <= tol {
-                break;
-            }
-            let secant = if g_lo != g_hi { hi - g_hi * (hi - lo) / (g_hi - g_lo) } else { 0.5 * (lo + hi) };
-            // Keep the trial point strictly inside, off the ends by a little.
-            let margin = 0.5 * tol;
-            let t = if secant.is_finite() { secant.clamp(lo + margin, hi - margin) } else { 0.5 * (lo + hi) };
-            if t == tb {
-                y_trial.copy_from_slice(yb);
-            } else {
-                dense(t, y_trial)?;
-            }
-            ev.into(t, y_trial, z_trial);
-            let g = z_trial[j];
-            if crossed(za[j], g) {
-                hi = t;
-                g_hi = g;
-                y_hi.copy_from_slice(y_trial);
-                if side == 1 {
-                    g_lo *= 0.5; // Illinois: the same end twice, halve the other's weight
-                }
-                side = 1;
-            } else {
-                lo = t;
-                g_lo = g;
-                if side == -1 {
-                    g_hi *= 0.5;
-                }
-                side = -1;
-            }
-        }
-        let earlier = match &best {
-            Some((t, _)) => hi < *t,
-            None => true,
-        };
-        if earlier {
-            best = Some((hi, j));
-            y_root.clear();
-            y_root.extend_from_slice(y_hi);
-        }
-    }
-    Ok(best)
 }

@@ -58,6 +58,7 @@ pub mod phase;
 pub mod standards;
 pub mod state;
 pub mod status;
+pub mod stepper;
 pub mod testing;
 pub mod units;
 pub mod values;

@@ -4,7 +4,8 @@
 use crate::values::{Derivatives, EventIndicators, InitialStates, Knowns, ModeUpdate, Outputs};
 use crate::variables::{Declarations, VariableTable};
 
-/// How `fmi2DoStep` integrates the model's ODE (see `integrate.rs`).
+/// How `fmi2DoStep` integrates the model's ODE (see `integrate.rs`). Each variant is a file in
+/// `stepper/`, registered in `stepper::registered` (docs/DESIGN.md, "Adding a solver method").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Solver {
     /// Explicit Runge-Kutta (Tsitouras 5(4), diffsol `tsit45`): non-stiff models.
