@@ -256,14 +256,7 @@ fn check_one(identifier: &str, description: &str, documentation: &str, symbol: &
 /// A modelIdentifier names a file and C symbols: it must be a C identifier
 /// (`[A-Za-z_][A-Za-z0-9_]*`), which also keeps it from escaping the output directory.
 pub fn validate_identifier(id: &str) -> Result<(), String> {
-    let mut chars = id.chars();
-    let ok = match chars.next() {
-        Some(c) if c.is_ascii_alphabetic() || c == '_' => {
-            chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
-        }
-        _ => false,
-    };
-    if ok {
+    if fmi_host::master::declaration::is_c_identifier(id) {
         Ok(())
     } else {
         Err(format!("modelIdentifier {id:?} is not a C identifier"))

@@ -13,8 +13,9 @@
 //! 4. [`package`]: zip them with the library into a deterministic `.fmu`, with the model's
 //!    figures from `docs/figures/<ModelIdentifier>_*.png` ([`figures`]) in its documentation;
 //! 5. [`systems`] and [`ssp`]: for each system declared in `models/systems/<Name>.toml`,
-//!    check its components and connections against the FMUs' variables ([`interface`]) and
-//!    write `<Name>.ssp` (SSP 1.0: SystemStructure.ssd and the FMUs under resources/).
+//!    check its components and connections against the FMUs' variables (each description read
+//!    by `fmi_host::ModelDescription`, the tests' reader) and write `<Name>.ssp` (SSP 1.0:
+//!    SystemStructure.ssd and the FMUs under resources/).
 //!
 //! Run it with `cargo run --release -p build-fmus` from anywhere in the workspace.
 
@@ -23,7 +24,6 @@ mod discover;
 mod extract;
 mod figures;
 mod icon;
-mod interface;
 mod package;
 mod scaffold;
 mod source_date;
@@ -452,9 +452,9 @@ fn package_systems(
     let (mut written, mut failed) = (0, 0);
     let mut interfaces = BTreeMap::new();
     for (id, xml) in packaged {
-        match interface::parse(xml) {
-            Ok(i) => {
-                interfaces.insert(id.clone(), i);
+        match fmi_host::ModelDescription::parse(xml) {
+            Ok(md) => {
+                interfaces.insert(id.clone(), md);
             }
             Err(e) if !declarations.is_empty() => {
                 eprintln!("error: {id}: {e}");

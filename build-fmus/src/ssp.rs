@@ -163,9 +163,9 @@ pub fn ssd_xml(system: &System) -> String {
                 &mut w,
                 "ssd:Connection",
                 &[
-                    ("startElement", from.element.as_str()),
+                    ("startElement", from.instance.as_str()),
                     ("startConnector", from.variable.as_str()),
-                    ("endElement", to.element.as_str()),
+                    ("endElement", to.instance.as_str()),
                     ("endConnector", to.variable.as_str()),
                 ],
             );

@@ -21,7 +21,7 @@
 //!
 //! Modules, one job each:
 //! - [`fmu`]: unpack, parse, `dlopen`, resolve symbols ([`Fmu`]);
-//! - [`model_description`]: the `modelDescription.xml` parser;
+//! - [`model_description`]: the `modelDescription.xml` parser (build-fmus reads with it too);
 //! - [`instance`]: one `fmi2Component` / `fmi3Instance` ([`Instance`]);
 //! - [`state`]: FMU state get/set/free/serialize ([`FmuState`]);
 //! - [`logger`]: the logger callback and per-instance [`LogRecord`]s;
@@ -30,7 +30,8 @@
 //! - [`model_exchange`]: a strict Model Exchange master (its own Dormand-Prince integrator,
 //!   CVODE's rules for indicators at zero after an event);
 //! - [`master`]: a co-simulation master (Jacobi / Gauss-Seidel, input extrapolation, step
-//!   rejection with FMU states) coupling several instances.
+//!   rejection with FMU states) coupling several instances, and the systems declared in
+//!   `models/systems/*.toml` ([`master::declaration`], which build-fmus writes as SSP files).
 //!
 //! Limitation: the logger callback is declared non-variadic (stable Rust cannot define a
 //! C-variadic function); see [`ffi::LoggerFn`].
@@ -54,7 +55,7 @@ pub use instance::{DoStepOutcome, Instance, InstantiateOptions, ResourceLocation
 pub use logger::{LogCollector, LogRecord};
 pub use model_description::{
     Causality, CoSimulation, DefaultExperiment, Initial, ModelDescription, ModelStructure,
-    ScalarVariable, StartValue, Unknown, Variability, VariableType,
+    ScalarVariable, StartValue, UnitDefinition, Unknown, Variability, VariableType,
 };
 pub use state::FmuState;
 

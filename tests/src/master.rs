@@ -6,7 +6,7 @@
 //!
 //! - initialization: `fmi2Instantiate`, start values, `fmi2SetupExperiment`, enter and exit
 //!   initialization mode, then one exchange of every connection in feedthrough order (read
-//!   from `<ModelStructure><Outputs>`; an algebraic loop is refused);
+//!   from the FMUs' `ModelStructure` outputs; an algebraic loop is refused);
 //! - stepping ([`Algorithm`]): Jacobi (all FMUs step from the inputs of the same communication
 //!   point, then exchange) or Gauss-Seidel (FMUs step in a given order, each with the freshest
 //!   outputs of those before it);
@@ -21,14 +21,15 @@
 //! Every FMU failure is a [`MasterError`] naming the instance and the fmi2 call, with the
 //! FMU's last log messages; nothing panics on an FMU error.
 //!
-//! Modules: [`system`] (what is coupled), [`algorithm`] (how it is stepped: the options),
+//! Modules: [`system`] (what is coupled), [`declaration`] (a system declared in
+//! `models/systems/<Name>.toml`, the file build-fmus writes as an SSP), [`algorithm`] (how it is stepped: the options),
 //! [`simulation`] (the running system), [`results`], [`error`].
 
 pub mod algorithm;
+pub mod declaration;
 pub mod error;
 pub mod results;
 pub mod simulation;
-mod structure;
 pub mod system;
 
 pub use algorithm::{Algorithm, ErrorControl, Master, Outcome};

@@ -12,6 +12,10 @@
 //! Unknown elements and attributes are ignored (vendor annotations, `TypeDefinitions`, ...);
 //! what is read is validated (required attributes present, numbers parse, exactly one type
 //! element per `ScalarVariable`, unique names).
+//!
+//! This is the workspace's one reader of the descriptions the runtime writes: build-fmus reads
+//! the built libraries' descriptions with it too (a system's variables and `UnitDefinitions`,
+//! checked and written into the SSP files).
 
 use std::collections::HashMap;
 
@@ -49,7 +53,18 @@ pub struct ModelDescription {
     pub model_variables: Vec<ScalarVariable>,
     /// The outputs, state derivatives, initial unknowns and (FMI 3.0) event indicators.
     pub model_structure: ModelStructure,
+    /// `<UnitDefinitions>`, in document order.
+    pub unit_definitions: Vec<UnitDefinition>,
     by_name: HashMap<String, usize>,
+}
+
+/// One `<Unit>` of `<UnitDefinitions>`: its name and the attributes of its `<BaseUnit>`
+/// (kg, m, s, A, K, mol, cd, rad, factor, offset) as written, in their order (empty without a
+/// `<BaseUnit>`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnitDefinition {
+    pub name: String,
+    pub base_unit: Vec<(String, String)>,
 }
 
 /// One unknown of the `ModelStructure`, in value references (FMI 2.0's indices are turned into
@@ -71,6 +86,24 @@ pub struct ModelStructure {
     pub initial_unknowns: Vec<Unknown>,
     /// FMI 3.0 only (FMI 2.0 only counts them: `numberOfEventIndicators`).
     pub event_indicators: Vec<Unknown>,
+}
+
+impl ModelStructure {
+    /// Whether output `output` depends directly on the variable `known` (value references).
+    /// An output the structure does not list, or lists without `dependencies`, is taken to
+    /// depend on everything (the safe answer); so is one whose value reference FMI 2.0 gives
+    /// to outputs of two types and one of them does.
+    pub fn output_depends_on(&self, output: ValueReference, known: ValueReference) -> bool {
+        let mut listed = false;
+        for unknown in self.outputs.iter().filter(|u| u.value_reference == output) {
+            listed = true;
+            match &unknown.dependencies {
+                Some(list) if !list.contains(&known) => {}
+                _ => return true,
+            }
+        }
+        !listed
+    }
 }
 
 /// `<CoSimulation>`: the model identifier and the capability flags (absent flags are `false`,
@@ -120,6 +153,19 @@ pub enum VariableType {
     Enumeration,
 }
 
+impl VariableType {
+    /// The element name, as FMI 2.0 and SSP 1.0 (`ssc:`/`ssv:`) both spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            VariableType::Real => "Real",
+            VariableType::Integer => "Integer",
+            VariableType::Boolean => "Boolean",
+            VariableType::String => "String",
+            VariableType::Enumeration => "Enumeration",
+        }
+    }
+}
+
 /// The `start` attribute, typed after the variable type (an `Enumeration` start is an
 /// `Integer`).
 #[derive(Clone, Debug, PartialEq)]
@@ -151,6 +197,20 @@ pub enum Causality {
     #[default]
     Local,
     Independent,
+}
+
+impl Causality {
+    /// The attribute value, as the standard spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Causality::Parameter => "parameter",
+            Causality::CalculatedParameter => "calculatedParameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+            Causality::Local => "local",
+            Causality::Independent => "independent",
+        }
+    }
 }
 
 /// `variability` (default `continuous`).
@@ -213,6 +273,20 @@ impl ModelDescription {
             .get(name)
             .map(|&i| &self.model_variables[i])
             .ok_or_else(|| Error::UnknownVariable(name.to_owned()))
+    }
+
+    /// The names of the variables of one causality, in declaration order.
+    pub fn names_of(&self, causality: Causality) -> Vec<&str> {
+        self.model_variables
+            .iter()
+            .filter(|v| v.causality == causality)
+            .map(|v| v.name.as_str())
+            .collect()
+    }
+
+    /// The `<Unit>` called `name`.
+    pub fn unit(&self, name: &str) -> Option<&UnitDefinition> {
+        self.unit_definitions.iter().find(|u| u.name == name)
     }
 }
 
@@ -409,6 +483,7 @@ struct Parser {
     default_experiment: Option<DefaultExperiment>,
     variables: Vec<ScalarVariable>,
     pending: Option<PendingVariable>,
+    units: Vec<UnitDefinition>,
 }
 
 impl Parser {
@@ -500,6 +575,14 @@ impl Parser {
                     tolerance: attrs.parsed("tolerance")?,
                     step_size: attrs.parsed("stepSize")?,
                 });
+            }
+            (Some("UnitDefinitions"), "Unit") => {
+                self.units.push(UnitDefinition { name: attrs.required("name")?, base_unit: Vec::new() });
+            }
+            (Some("Unit"), "BaseUnit") => {
+                if let Some(unit) = self.units.last_mut() {
+                    unit.base_unit = attrs.pairs.clone();
+                }
             }
             (Some("ModelVariables"), "ScalarVariable") if self.version == Some(FmiVersion::Fmi2) => {
                 self.pending = Some(PendingVariable { attrs, typed: None });
@@ -684,6 +767,7 @@ impl Parser {
             default_experiment: self.default_experiment,
             model_variables: variables,
             model_structure,
+            unit_definitions: self.units,
             by_name,
         })
     }
@@ -863,6 +947,7 @@ mod tests {
   <CoSimulation modelIdentifier="Demo3" canGetAndSetFMUState="true" canSerializeFMUState="true"
       providesDirectionalDerivatives="true" providesAdjointDerivatives="true" hasEventMode="false"
       maxOutputDerivativeOrder="1"/>
+  <UnitDefinitions><Unit name="V"><BaseUnit kg="1" m="2" s="-3" A="-1"/></Unit></UnitDefinitions>
   <TypeDefinitions><Float64Type name="Voltage" unit="V"/></TypeDefinitions>
   <DefaultExperiment startTime="0" stopTime="1" stepSize="0.01"/>
   <ModelVariables>
@@ -911,6 +996,92 @@ mod tests {
         assert_eq!(ms.continuous_state_derivatives, vec![Unknown { value_reference: 1, dependencies: None }]);
         assert_eq!(ms.initial_unknowns, vec![Unknown { value_reference: 3, dependencies: Some(vec![]) }]);
         assert_eq!(ms.event_indicators, vec![Unknown { value_reference: 6, dependencies: None }]);
+    }
+
+    #[test]
+    fn reads_the_unit_definitions_of_both_versions() {
+        let base = |pairs: &[(&str, &str)]| pairs.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect::<Vec<_>>();
+        for xml in [XML, XML3] {
+            let md = ModelDescription::parse(xml).unwrap();
+            assert_eq!(md.unit_definitions, vec![UnitDefinition { name: "V".into(), base_unit: base(&[("kg", "1"), ("m", "2"), ("s", "-3"), ("A", "-1")]) }]);
+            assert_eq!(md.unit("V"), md.unit_definitions.first());
+            assert!(md.unit("Ohm").is_none());
+        }
+    }
+
+    /// A small description in the shape fmu-runtime writes, as build-fmus reads it for a system.
+    const INTERFACE: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<fmiModelDescription fmiVersion="2.0" modelName="Shaft" guid="{x}">
+  <CoSimulation modelIdentifier="Shaft"/>
+  <UnitDefinitions>
+    <Unit name="N.m"><BaseUnit kg="1" m="2" s="-2"/></Unit>
+    <Unit name="rad/s">
+      <BaseUnit s="-1" rad="1"/>
+    </Unit>
+    <Unit name="1"><BaseUnit/></Unit>
+  </UnitDefinitions>
+  <ModelVariables>
+    <ScalarVariable name="K" valueReference="0" causality="parameter" variability="fixed">
+      <Real start="900" unit="N.m/rad"/>
+    </ScalarVariable>
+    <ScalarVariable name="mode" valueReference="1" causality="parameter" variability="fixed"><Integer start="1"/></ScalarVariable>
+    <ScalarVariable name="w_in" valueReference="2" causality="input"><Real start="0" unit="rad/s"/></ScalarVariable>
+    <ScalarVariable name="T &amp; more" valueReference="3" causality="output"><Real unit="N.m"/></ScalarVariable>
+    <ScalarVariable name="x" valueReference="4"><Real/></ScalarVariable>
+    <ScalarVariable name="on" valueReference="5" causality="output"><Boolean/></ScalarVariable>
+  </ModelVariables>
+</fmiModelDescription>"#;
+
+    #[test]
+    fn reads_what_a_system_needs_variables_and_units() {
+        let md = ModelDescription::parse(INTERFACE).unwrap();
+        let names: Vec<_> = md.model_variables.iter().map(|v| v.name.as_str()).collect();
+        assert_eq!(names, ["K", "mode", "w_in", "T & more", "x", "on"]);
+        let w = md.variable("w_in").unwrap();
+        assert_eq!((w.causality, w.variable_type, w.unit.as_deref()), (Causality::Input, VariableType::Real, Some("rad/s")));
+        assert_eq!((w.causality.name(), w.variable_type.name()), ("input", "Real"));
+        assert_eq!(md.variable("x").unwrap().causality.name(), "local");
+        assert_eq!(md.variable("mode").unwrap().variable_type, VariableType::Integer);
+        assert_eq!(md.variable("on").unwrap().variable_type, VariableType::Boolean);
+        assert_eq!(md.names_of(Causality::Output), ["T & more", "on"]);
+        let units: Vec<_> = md.unit_definitions.iter().map(|u| u.name.as_str()).collect();
+        assert_eq!(units, ["N.m", "rad/s", "1"]);
+        assert_eq!(md.unit("rad/s").unwrap().base_unit, [("s".to_owned(), "-1".to_owned()), ("rad".to_owned(), "1".to_owned())]);
+        assert!(md.unit("1").unwrap().base_unit.is_empty());
+        // A variable without its type element, closed or self-closing.
+        for broken in [
+            r#"<ScalarVariable name="x" valueReference="4"></ScalarVariable>"#,
+            r#"<ScalarVariable name="x" valueReference="4"/>"#,
+        ] {
+            let xml = INTERFACE.replace(r#"<ScalarVariable name="x" valueReference="4"><Real/></ScalarVariable>"#, broken);
+            match ModelDescription::parse(&xml) {
+                Err(Error::ModelDescription(m)) => assert!(m.contains("\"x\" has no type element"), "{m}"),
+                other => panic!("{broken}: {other:?}"),
+            }
+        }
+        let not_well_formed = INTERFACE.replace("</UnitDefinitions>", "</UnitDefinitionz>");
+        assert!(matches!(ModelDescription::parse(&not_well_formed), Err(Error::Xml { .. })));
+    }
+
+    #[test]
+    fn reads_output_dependencies() {
+        // Seven variables; FMI 2.0 counts them from 1, the structure is kept in value references
+        // (index - 1 here).
+        let variables: String = (1..=7)
+            .map(|i| format!(r#"<ScalarVariable name="v{i}" valueReference="{}"><Real/></ScalarVariable>"#, i - 1))
+            .collect();
+        let xml = format!(
+            r#"<fmiModelDescription fmiVersion="2.0" modelName="D" guid="{{g}}"><ModelVariables>{variables}</ModelVariables><ModelStructure>
+            <Outputs><Unknown index="3" dependencies="1 2"/><Unknown index="4" dependencies=""/>
+            <Unknown index="5"/></Outputs>
+            <Derivatives><Unknown index="7" dependencies="1"/></Derivatives>
+            </ModelStructure></fmiModelDescription>"#
+        );
+        let d = ModelDescription::parse(&xml).unwrap().model_structure;
+        assert!(d.output_depends_on(2, 0) && d.output_depends_on(2, 1) && !d.output_depends_on(2, 5));
+        assert!(!d.output_depends_on(3, 0), "empty list: no dependency");
+        assert!(d.output_depends_on(4, 0), "no attribute: depends on everything");
+        assert!(d.output_depends_on(6, 1), "a derivative is not an output: conservative answer");
     }
 
     #[test]

@@ -41,6 +41,43 @@ fn check(scenario: Scenario, setup: Setup) -> Figures {
     f
 }
 
+/// The coupled system is read from `models/systems/MotorFanSystem.toml`, the SSP's declaration:
+/// it is the spec's direct-on-line coupling, and the PI start adds the controller to it.
+#[test]
+fn the_coupled_system_is_the_declared_direct_on_line_coupling() {
+    let fmus = Fmus::load();
+    let dol = fmus.system(Scenario::DIRECT_ON_LINE);
+    let names: Vec<&str> = dol.components.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["InductionMotor", "DriveShaft", "Fan"], "the Gauss-Seidel order");
+    let connections: Vec<String> = dol.connections.iter().map(|c| c.to_string()).collect();
+    let direct_on_line = [
+        "InductionMotor.angle -> DriveShaft.angle_a",
+        "Fan.angle_high -> DriveShaft.angle_b",
+        "InductionMotor.speed -> DriveShaft.speed_a",
+        "Fan.speed_high -> DriveShaft.speed_b",
+        "DriveShaft.torque -> InductionMotor.load_torque",
+        "DriveShaft.torque -> Fan.shaft_torque",
+    ];
+    assert_eq!(connections, direct_on_line);
+    assert_eq!(dol.components[0].integers, [("drive".to_owned(), 1)], "the machine drives the motor");
+    assert!(dol.components.iter().all(|c| c.reals.is_empty() && c.booleans.is_empty()));
+    assert!(dol.components[1..].iter().all(|c| c.integers.is_empty()));
+
+    let pi = fmus.system(Scenario { gear_efficiency: Some(1.0), ..Scenario::PI_START });
+    let names: Vec<&str> = pi.components.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["InductionMotor", "DriveShaft", "Fan", "SpeedController"]);
+    let connections: Vec<String> = pi.connections.iter().map(|c| c.to_string()).collect();
+    assert_eq!(connections[..6], direct_on_line);
+    assert_eq!(
+        connections[6..],
+        ["InductionMotor.speed -> SpeedController.measured_speed", "SpeedController.torque_command -> InductionMotor.torque_command"]
+    );
+    assert_eq!(pi.components[0].integers, [("drive".to_owned(), 2)], "torque_command drives the motor");
+    assert_eq!(pi.components[2].reals, [("gear_efficiency".to_owned(), 1.0)]);
+    let controller: Vec<(&str, f64)> = pi.components[3].reals.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+    assert_eq!(controller, Fmus::PI_COUPLED);
+}
+
 #[test]
 fn direct_on_line_jacobi_at_1ms_agrees_with_monolithic_level_c() {
     check(Scenario::DIRECT_ON_LINE, Setup::jacobi());

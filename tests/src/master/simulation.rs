@@ -236,7 +236,7 @@ impl Simulation {
 
     /// The current value of a Real variable `"instance.variable"`.
     pub fn get_real(&mut self, port: &str) -> Result<f64> {
-        let Port { instance, variable } = Port::parse(port)?;
+        let Port { instance, variable } = Port::parse(port).map_err(config)?;
         let time = self.time;
         let inst = self
             .instance_mut(&instance)
@@ -609,7 +609,7 @@ fn check_error_control_support(system: &System, divides: bool) -> Result<()> {
 
 /// The recorded variable `port` (`"instance.variable"`).
 fn probe(system: &System, port: &str) -> Result<Probe> {
-    let (instance, var, _) = system.lookup(port)?;
+    let (instance, var) = system.lookup(port)?;
     let kind = match var.variable_type {
         VariableType::Enumeration => VariableType::Integer,
         VariableType::String => {

@@ -6,7 +6,6 @@ use std::fmt;
 use std::sync::Arc;
 
 use super::error::{config, MasterError, Result};
-use super::structure::OutputDependencies;
 use crate::ffi::ValueReference;
 use crate::fmu::Fmu;
 use crate::model_description::{Causality, ScalarVariable, VariableType};
@@ -34,35 +33,60 @@ impl Component {
         }
     }
 
-    /// A Real start value.
+    /// A Real start value (builder style; see [`Component::set_real`]).
     pub fn real(mut self, variable: impl Into<String>, value: f64) -> Component {
-        self.reals.push((variable.into(), value));
+        self.set_real(variable, value);
         self
     }
 
-    /// An Integer (or Enumeration) start value.
+    /// An Integer (or Enumeration) start value (builder style).
     pub fn integer(mut self, variable: impl Into<String>, value: i32) -> Component {
-        self.integers.push((variable.into(), value));
+        self.set_integer(variable, value);
         self
     }
 
-    /// A Boolean start value.
+    /// A Boolean start value (builder style).
     pub fn boolean(mut self, variable: impl Into<String>, value: bool) -> Component {
-        self.booleans.push((variable.into(), value));
+        self.set_boolean(variable, value);
         self
+    }
+
+    /// A Real start value; it replaces one given before for the same variable.
+    pub fn set_real(&mut self, variable: impl Into<String>, value: f64) {
+        set(&mut self.reals, variable.into(), value);
+    }
+
+    /// An Integer (or Enumeration) start value, replacing an earlier one.
+    pub fn set_integer(&mut self, variable: impl Into<String>, value: i32) {
+        set(&mut self.integers, variable.into(), value);
+    }
+
+    /// A Boolean start value, replacing an earlier one.
+    pub fn set_boolean(&mut self, variable: impl Into<String>, value: bool) {
+        set(&mut self.booleans, variable.into(), value);
+    }
+}
+
+/// Sets `name` in a list of start values: in place if it is there, else at the end.
+fn set<T>(values: &mut Vec<(String, T)>, name: String, value: T) {
+    match values.iter_mut().find(|(n, _)| *n == name) {
+        Some(slot) => slot.1 = value,
+        None => values.push((name, value)),
     }
 }
 
 /// `instance.variable`: a variable of one instance. The instance name ends at the first dot,
 /// so variable names may contain dots.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Port {
     pub instance: String,
     pub variable: String,
 }
 
 impl Port {
-    pub fn parse(text: &str) -> Result<Port> {
+    /// Splits `text` (spaces around it ignored) at its first dot.
+    pub fn parse(text: &str) -> std::result::Result<Port, String> {
+        let text = text.trim();
         match text.split_once('.') {
             Some((instance, variable)) if !instance.is_empty() && !variable.is_empty() => {
                 Ok(Port {
@@ -70,9 +94,7 @@ impl Port {
                     variable: variable.to_owned(),
                 })
             }
-            _ => Err(config(format!(
-                "{text:?} is not of the form \"instance.variable\""
-            ))),
+            _ => Err(format!("{text:?} is not \"instance.variable\"")),
         }
     }
 }
@@ -126,6 +148,12 @@ impl System {
         self
     }
 
+    /// The component called `name` (to change its start values).
+    pub fn component_mut(&mut self, name: &str) -> Result<&mut Component> {
+        let i = self.index_of(name)?;
+        Ok(&mut self.components[i])
+    }
+
     /// Index of the component called `name`.
     pub fn index_of(&self, name: &str) -> Result<usize> {
         self.components
@@ -134,20 +162,18 @@ impl System {
             .ok_or_else(|| config(format!("no instance named {name:?} in the system")))
     }
 
-    /// The variable `port` (instance index, variable, 1-based index in ModelVariables).
-    pub(crate) fn lookup(&self, port: &str) -> Result<(usize, &ScalarVariable, u32)> {
-        let port = Port::parse(port)?;
+    /// The variable `port` (instance index, variable).
+    pub(crate) fn lookup(&self, port: &str) -> Result<(usize, &ScalarVariable)> {
+        let port = Port::parse(port).map_err(config)?;
         let instance = self.index_of(&port.instance)?;
-        let md = self.components[instance].fmu.model_description();
-        let position = md
-            .model_variables
-            .iter()
-            .position(|v| v.name == port.variable)
-            .ok_or_else(|| MasterError::Host {
+        let variable = self.components[instance]
+            .fmu
+            .variable(&port.variable)
+            .map_err(|source| MasterError::Host {
                 instance: port.instance.clone(),
-                source: crate::Error::UnknownVariable(port.variable.clone()),
+                source,
             })?;
-        Ok((instance, &md.model_variables[position], position as u32 + 1))
+        Ok((instance, variable))
     }
 
     /// Checks the system and resolves every connection.
@@ -165,8 +191,8 @@ impl System {
         }
         let mut links: Vec<Link> = Vec::with_capacity(self.connections.len());
         for connection in &self.connections {
-            let (from_instance, from, from_index) = self.lookup(&connection.from)?;
-            let (to_instance, to, to_index) = self.lookup(&connection.to)?;
+            let (from_instance, from) = self.lookup(&connection.from)?;
+            let (to_instance, to) = self.lookup(&connection.to)?;
             if from.causality != Causality::Output {
                 return Err(config(format!(
                     "{connection}: {} is not an output",
@@ -210,10 +236,8 @@ impl System {
                 to: connection.to.clone(),
                 from_instance,
                 from_vr: from.value_reference,
-                from_index,
                 to_instance,
                 to_vr: to.value_reference,
-                to_index,
                 nominal: from.nominal.unwrap_or(1.0).abs().max(f64::MIN_POSITIVE),
                 source_has_derivatives: from_cs.max_output_derivative_order >= 1,
                 consumer_interpolates: to_cs.can_interpolate_inputs,
@@ -224,18 +248,10 @@ impl System {
 
     /// The order in which to copy the connections so that every output is read after all the
     /// inputs it depends on directly have been set (a topological order of the feedthrough
-    /// graph). [`MasterError::AlgebraicLoop`] when there is none.
+    /// graph, read from each FMU's `ModelStructure`). [`MasterError::AlgebraicLoop`] when there
+    /// is none.
     pub(crate) fn exchange_order(&self, links: &[Link]) -> Result<Vec<usize>> {
-        let structures = self
-            .components
-            .iter()
-            .map(|c| {
-                OutputDependencies::of(&c.fmu).map_err(|source| MasterError::Host {
-                    instance: c.name.clone(),
-                    source,
-                })
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let structure = |instance: usize| &self.components[instance].fmu.model_description().model_structure;
         // before[j]: the links whose input the source output of link j depends on.
         let before: Vec<Vec<usize>> = links
             .iter()
@@ -245,7 +261,7 @@ impl System {
                     .enumerate()
                     .filter(|(_, li)| {
                         li.to_instance == lj.from_instance
-                            && structures[lj.from_instance].depends_on(lj.from_index, li.to_index)
+                            && structure(lj.from_instance).output_depends_on(lj.from_vr, li.to_vr)
                     })
                     .map(|(i, _)| i)
                     .collect()
@@ -284,11 +300,8 @@ pub(crate) struct Link {
     pub to: String,
     pub from_instance: usize,
     pub from_vr: ValueReference,
-    /// 1-based index of the output in ModelVariables (ModelStructure counts so).
-    pub from_index: u32,
     pub to_instance: usize,
     pub to_vr: ValueReference,
-    pub to_index: u32,
     /// Scale below which differences count as absolute (the output's `nominal`, default 1).
     pub nominal: f64,
     /// The source declares `maxOutputDerivativeOrder >= 1`.
