@@ -171,16 +171,25 @@ pub fn resolve(decl: &Declaration, fmus: &BTreeMap<String, ModelDescription>) ->
             ));
             continue;
         }
-        // (Enumerations are left out: SSP gives their values by item name.)
-        let typed = match var.variable_type {
-            VariableType::Enumeration => None,
-            ty => value.typed(ty),
+        let items = instances
+            .get(target.instance.as_str())
+            .and_then(|f| fmus.get(*f))
+            .and_then(|md| md.items_of(var))
+            .unwrap_or_default();
+        // The declaration may name an Enumeration's item or give its value. The SSP gets the
+        // value as an ssv:Integer: SSP 1.0's ssv:Enumeration (the item's name) stops ecos 0.7.2
+        // ("Unknown XML node in ssv:Parameter") and libcosim 0.0.6, and fmpy's simulate_ssp sets
+        // it with int(value); every FMI master sets an Enumeration with fmi2SetInteger.
+        let typed = value.typed(var.variable_type, items);
+        let ssv_type = match var.variable_type {
+            VariableType::Enumeration => VariableType::Integer,
+            ty => ty,
         };
         match typed {
             Some(v) => parameters
                 .entry(target.instance.as_str())
                 .or_default()
-                .push((target.variable.clone(), var.variable_type, v)),
+                .push((target.variable.clone(), ssv_type, v)),
             None => errors.push(format!(
                 "{what}: {value:?} does not fit its type {}",
                 var.variable_type.name()

@@ -178,8 +178,9 @@ def monolithic(fmu: Path, step: float, stop_time: float, start_values: Mapping[s
 # ---------------------------------------------------------------------------------------------
 # The .ssp as the masters read it
 
-def ssp_parameters(ssp: Path) -> dict[str, str]:
-    """{"Component.variable": value text} from the ParameterBindings of the SSD's components."""
+def ssp_bindings(ssp: Path) -> dict[str, tuple[str, str]]:
+    """{"Component.variable": (ssv type, value text)} from the ParameterBindings of the SSD's
+    components, as written."""
     from fmpy.ssp.ssd import read_ssd
 
     values = {}
@@ -187,8 +188,13 @@ def ssp_parameters(ssp: Path) -> dict[str, str]:
         for binding in component.parameterBindings:
             for parameter_set in binding.parameterValues:
                 for p in parameter_set.parameters:
-                    values[f"{component.name}.{p.name}"] = p.value
+                    values[f"{component.name}.{p.name}"] = (p.type, p.value)
     return values
+
+
+def ssp_parameters(ssp: Path) -> dict[str, str]:
+    """{"Component.variable": value text} from the ParameterBindings of the SSD's components."""
+    return {name: text for name, (_, text) in ssp_bindings(ssp).items()}
 
 
 def fmpy_ssp(ssp: Path, step: float, stop_time: float, signals: Sequence[Signal]) -> Run:

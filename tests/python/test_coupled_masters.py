@@ -93,7 +93,11 @@ def test_the_ssp_is_ssp_1_0_with_the_spec_connections():
     assert kinds[("Fan", "fan_speed")] == "output"  # recorded by fmpy's runner
     units = {u.name for u in ssd.units}
     assert {"rad/s", "N.m"} <= units, units
-    assert cm.ssp_parameters(ssp) == {"InductionMotor.drive": "1"}  # direct on line, stated
+    # Direct on line, stated (the declaration names the item "direct_on_line"): written as the
+    # item's value, an ssv:Integer, which every master here reads (ecos and libcosim stop at an
+    # ssv:Enumeration).
+    assert cm.ssp_bindings(ssp) == {"InductionMotor.drive": ("Integer", "1")}
+    assert cm.ssp_parameters(ssp) == {"InductionMotor.drive": "1"}
 
 
 # The masters (fmpy simulate_ssp, ecospy, libcosimpy, the default container) are Jacobi

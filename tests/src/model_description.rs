@@ -55,7 +55,17 @@ pub struct ModelDescription {
     pub model_structure: ModelStructure,
     /// `<UnitDefinitions>`, in document order.
     pub unit_definitions: Vec<UnitDefinition>,
+    /// The enumeration types of `<TypeDefinitions>` (FMI 2.0 `<SimpleType>` with an
+    /// `<Enumeration>`, FMI 3.0 `<EnumerationType>`), in document order.
+    pub enumeration_types: Vec<EnumerationType>,
     by_name: HashMap<String, usize>,
+}
+
+/// An enumeration type: its name and its items (name, value), in document order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct EnumerationType {
+    pub name: String,
+    pub items: Vec<(String, i64)>,
 }
 
 /// One `<Unit>` of `<UnitDefinitions>`: its name and the attributes of its `<BaseUnit>`
@@ -284,6 +294,13 @@ impl ModelDescription {
             .collect()
     }
 
+    /// The items (name, value) of an Enumeration variable's declared type; None for another
+    /// variable or a type the description does not define.
+    pub fn items_of(&self, variable: &ScalarVariable) -> Option<&[(String, i64)]> {
+        let declared = variable.declared_type.as_deref().filter(|_| variable.variable_type == VariableType::Enumeration)?;
+        self.enumeration_types.iter().find(|t| t.name == declared).map(|t| t.items.as_slice())
+    }
+
     /// The `<Unit>` called `name`.
     pub fn unit(&self, name: &str) -> Option<&UnitDefinition> {
         self.unit_definitions.iter().find(|u| u.name == name)
@@ -484,6 +501,9 @@ struct Parser {
     variables: Vec<ScalarVariable>,
     pending: Option<PendingVariable>,
     units: Vec<UnitDefinition>,
+    enumeration_types: Vec<EnumerationType>,
+    /// The name of the `<SimpleType>` being read (FMI 2.0).
+    simple_type: Option<String>,
 }
 
 impl Parser {
@@ -578,6 +598,23 @@ impl Parser {
             }
             (Some("UnitDefinitions"), "Unit") => {
                 self.units.push(UnitDefinition { name: attrs.required("name")?, base_unit: Vec::new() });
+            }
+            // FMI 2.0: <SimpleType name><Enumeration><Item/>; FMI 3.0: <EnumerationType name><Item/>.
+            (Some("SimpleType"), "Enumeration") if self.version == Some(FmiVersion::Fmi2) => {
+                let name = self.simple_type.clone().unwrap_or_default();
+                self.enumeration_types.push(EnumerationType { name, items: Vec::new() });
+            }
+            (Some("TypeDefinitions"), "SimpleType") => {
+                self.simple_type = attrs.get("name").map(str::to_owned);
+            }
+            (Some("TypeDefinitions"), "EnumerationType") if self.version == Some(FmiVersion::Fmi3) => {
+                self.enumeration_types.push(EnumerationType { name: attrs.required("name")?, items: Vec::new() });
+            }
+            (Some("Enumeration" | "EnumerationType"), "Item") => {
+                let item = (attrs.required("name")?, attrs.parsed("value")?.ok_or_else(|| invalid("an enumeration <Item> has no value"))?);
+                if let Some(t) = self.enumeration_types.last_mut() {
+                    t.items.push(item);
+                }
             }
             (Some("Unit"), "BaseUnit") => {
                 if let Some(unit) = self.units.last_mut() {
@@ -768,6 +805,7 @@ impl Parser {
             model_variables: variables,
             model_structure,
             unit_definitions: self.units,
+            enumeration_types: self.enumeration_types,
             by_name,
         })
     }
@@ -1006,6 +1044,36 @@ mod tests {
             assert_eq!(md.unit_definitions, vec![UnitDefinition { name: "V".into(), base_unit: base(&[("kg", "1"), ("m", "2"), ("s", "-3"), ("A", "-1")]) }]);
             assert_eq!(md.unit("V"), md.unit_definitions.first());
             assert!(md.unit("Ohm").is_none());
+        }
+    }
+
+    #[test]
+    fn reads_enumeration_items_of_both_versions() {
+        let fmi2 = r#"<fmiModelDescription fmiVersion="2.0" modelName="m" guid="{g}">
+  <TypeDefinitions>
+    <SimpleType name="level"><Enumeration><Item name="a" value="1" description="quasi-static"/><Item name="b" value="2"/></Enumeration></SimpleType>
+  </TypeDefinitions>
+  <ModelVariables>
+    <ScalarVariable name="level" valueReference="0" causality="parameter" variability="fixed"><Enumeration declaredType="level" start="2"/></ScalarVariable>
+    <ScalarVariable name="n" valueReference="1" causality="parameter" variability="fixed"><Integer start="2"/></ScalarVariable>
+  </ModelVariables>
+  <ModelStructure/>
+</fmiModelDescription>"#;
+        let fmi3 = r#"<fmiModelDescription fmiVersion="3.0" modelName="m" instantiationToken="{g}">
+  <TypeDefinitions>
+    <EnumerationType name="level"><Item name="a" value="1"/><Item name="b" value="2"/></EnumerationType>
+  </TypeDefinitions>
+  <ModelVariables>
+    <Enumeration name="level" valueReference="0" causality="parameter" variability="fixed" declaredType="level" start="2"/>
+    <Int32 name="n" valueReference="1" causality="parameter" variability="fixed" start="2"/>
+  </ModelVariables>
+  <ModelStructure/>
+</fmiModelDescription>"#;
+        for xml in [fmi2, fmi3] {
+            let md = ModelDescription::parse(xml).unwrap();
+            let items: &[(String, i64)] = &[("a".into(), 1), ("b".into(), 2)];
+            assert_eq!(md.items_of(md.variable("level").unwrap()), Some(items));
+            assert_eq!(md.items_of(md.variable("n").unwrap()), None);
         }
     }
 

@@ -127,7 +127,7 @@ impl Model for InductionMotor {
 
     fn declare(d: &mut Declarations) -> Self {
         InductionMotor {
-            drive: d.integer_parameter("drive", 1).range(1, 2).describe("1 = direct on line (torque from the machine), 2 = converter (torque = torque_command)"),
+            drive: d.integer_parameter("drive", 1).choices(1, &[("direct_on_line", "torque from the machine"), ("converter", "torque = torque_command")]).describe("1 = direct on line (torque from the machine), 2 = converter (torque = torque_command)"),
             electrical_dynamics: d.boolean_parameter("electrical_dynamics", false).describe("true: the dq model with stator and rotor fluxes (MotorFan level d) instead of the steady-state curve"),
             motor: MotorParameters::declare(d),
             load_torque: d.input("load_torque", 0.0, "N.m").describe("Torque the driveshaft exerts on the rotor (connect DriveShaft.torque)"),

@@ -44,11 +44,19 @@ pub enum Value {
 
 impl Value {
     /// The value as a variable of type `ty` takes it (an Integer literal for a Real is a
-    /// Real); `None` when it does not fit (another type, an Integer beyond 32 bits).
-    pub fn typed(&self, ty: VariableType) -> Option<Value> {
+    /// Real; an Enumeration's item, given by name or by value, is its value); `None` when it does
+    /// not fit (another type, an Integer beyond 32 bits, no such item). `items` are an
+    /// Enumeration's (name, value) pairs (`ModelDescription::items_of`; empty: any 32-bit value).
+    pub fn typed(&self, ty: VariableType, items: &[(String, i64)]) -> Option<Value> {
         match (ty, self) {
             (VariableType::Real, Value::Real(x)) => Some(Value::Real(*x)),
             (VariableType::Real, Value::Integer(i)) => Some(Value::Real(*i as f64)),
+            (VariableType::Enumeration, Value::Integer(i)) if !items.is_empty() => {
+                items.iter().any(|(_, v)| v == i).then_some(Value::Integer(*i))
+            }
+            (VariableType::Enumeration, Value::String(name)) => {
+                items.iter().find(|(n, _)| n == name).map(|(_, v)| Value::Integer(*v))
+            }
             (VariableType::Integer | VariableType::Enumeration, Value::Integer(i))
                 if i32::try_from(*i).is_ok() =>
             {
@@ -288,7 +296,8 @@ impl System {
                     source,
                 }
             })?;
-            match value.typed(variable.variable_type) {
+            let items = component.fmu.model_description().items_of(variable).unwrap_or_default();
+            match value.typed(variable.variable_type, items) {
                 Some(Value::Real(x)) => component.set_real(&target.variable, x),
                 Some(Value::Integer(n)) => {
                     component.set_integer(&target.variable, n as i32) // fits: `typed` checked
@@ -392,12 +401,18 @@ mod tests {
 
     #[test]
     fn values_take_their_variables_type() {
-        assert_eq!(Value::Integer(900).typed(VariableType::Real), Some(Value::Real(900.0)));
-        assert_eq!(Value::Integer(2).typed(VariableType::Enumeration), Some(Value::Integer(2)));
-        assert_eq!(Value::Integer(1 << 40).typed(VariableType::Integer), None);
-        assert_eq!(Value::Real(1.5).typed(VariableType::Integer), None);
-        assert_eq!(Value::Boolean(true).typed(VariableType::Real), None);
-        assert_eq!(Value::String("a".into()).typed(VariableType::String), Some(Value::String("a".into())));
+        assert_eq!(Value::Integer(900).typed(VariableType::Real, &[]), Some(Value::Real(900.0)));
+        assert_eq!(Value::Integer(2).typed(VariableType::Enumeration, &[]), Some(Value::Integer(2)));
+        assert_eq!(Value::Integer(1 << 40).typed(VariableType::Integer, &[]), None);
+        assert_eq!(Value::Real(1.5).typed(VariableType::Integer, &[]), None);
+        assert_eq!(Value::Boolean(true).typed(VariableType::Real, &[]), None);
+        assert_eq!(Value::String("a".into()).typed(VariableType::String, &[]), Some(Value::String("a".into())));
+        // An Enumeration's item by name or by value; no other.
+        let items = [("direct_on_line".to_string(), 1), ("converter".to_string(), 2)];
+        assert_eq!(Value::String("converter".into()).typed(VariableType::Enumeration, &items), Some(Value::Integer(2)));
+        assert_eq!(Value::Integer(1).typed(VariableType::Enumeration, &items), Some(Value::Integer(1)));
+        assert_eq!(Value::Integer(3).typed(VariableType::Enumeration, &items), None);
+        assert_eq!(Value::String("dol".into()).typed(VariableType::Enumeration, &items), None);
     }
 
     #[test]
