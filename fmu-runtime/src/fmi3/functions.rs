@@ -381,10 +381,21 @@ pub unsafe fn deserialize_fmu_state<M: Model>(c: fmi3Instance, bytes: *const fmi
     })
 }
 
-/// The arrays of a directional or adjoint derivative, checked: (unknowns, knowns, seed,
-/// sensitivity), the seed of `n_seed` and the sensitivity of `n_sensitivity` values.
-#[allow(clippy::type_complexity)]
+/// What the seed of a partial derivative runs along: the knowns (fmi3GetDirectionalDerivative,
+/// sensitivities of the unknowns) or the unknowns (fmi3GetAdjointDerivative, sensitivities of
+/// the knowns).
+#[derive(Clone, Copy)]
+enum Seeded {
+    Knowns,
+    Unknowns,
+}
+
+/// The arrays of a partial-derivative call, checked: the counts agree with what the seed runs
+/// along, no pointer is null, and every value reference is one of the model's own variables.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
 unsafe fn derivative_arrays<'a>(
+    table: &VariableTable,
+    seeded: Seeded,
     unknowns: *const fmi3ValueReference,
     n_unknowns: usize,
     knowns: *const fmi3ValueReference,
@@ -394,12 +405,22 @@ unsafe fn derivative_arrays<'a>(
     sensitivity: *mut fmi3Float64,
     n_sensitivity: usize,
 ) -> CallResult<(&'a [u32], &'a [u32], &'a [f64], &'a mut [f64])> {
-    Ok((
-        slice(unknowns, n_unknowns).ok_or_else(|| null("the unknowns' value references"))?,
-        slice(knowns, n_knowns).ok_or_else(|| null("the knowns' value references"))?,
-        slice(seed, n_seed).ok_or_else(|| null("the seed"))?,
-        slice_mut(sensitivity, n_sensitivity).ok_or_else(|| null("the sensitivity array"))?,
-    ))
+    let ((n_along, along), (n_sensed, sensed)) = match seeded {
+        Seeded::Knowns => ((n_knowns, "knowns"), (n_unknowns, "unknowns")),
+        Seeded::Unknowns => ((n_unknowns, "unknowns"), (n_knowns, "knowns")),
+    };
+    if n_seed != n_along || n_sensitivity != n_sensed {
+        return Err(Failure::error(format!(
+            "{n_seed} seed values for {n_along} {along} and {n_sensitivity} sensitivities for {n_sensed} {sensed}: they must agree (scalar variables)"
+        )));
+    }
+    let u = slice(unknowns, n_unknowns).ok_or_else(|| null("the unknowns' value references"))?;
+    let k = slice(knowns, n_knowns).ok_or_else(|| null("the knowns' value references"))?;
+    let s = slice(seed, n_seed).ok_or_else(|| null("the seed"))?;
+    let out = slice_mut(sensitivity, n_sensitivity).ok_or_else(|| null("the sensitivity array"))?;
+    model_variables_only(table, u, "an unknown of a partial derivative")?;
+    model_variables_only(table, k, "a known of a partial derivative")?;
+    Ok((u, k, s, out))
 }
 
 pub unsafe fn get_directional_derivative<M: Model>(
@@ -414,14 +435,8 @@ pub unsafe fn get_directional_derivative<M: Model>(
     n_sensitivity: usize,
 ) -> fmi3Status {
     with::<M>(c, Function::PartialDerivatives, "fmi3GetDirectionalDerivative", |comp| {
-        if n_seed != n_knowns || n_sensitivity != n_unknowns {
-            return Err(Failure::error(format!(
-                "{n_seed} seed values for {n_knowns} knowns and {n_sensitivity} sensitivities for {n_unknowns} unknowns: they must agree (scalar variables)"
-            )));
-        }
-        let (u, k, s, out) = derivative_arrays(unknowns, n_unknowns, knowns, n_knowns, seed, n_seed, sensitivity, n_sensitivity)?;
-        model_variables_only(comp.instance.table(), u, "an unknown of a partial derivative")?;
-        model_variables_only(comp.instance.table(), k, "a known of a partial derivative")?;
+        let table = comp.instance.table();
+        let (u, k, s, out) = derivative_arrays(table, Seeded::Knowns, unknowns, n_unknowns, knowns, n_knowns, seed, n_seed, sensitivity, n_sensitivity)?;
         comp.instance.directional_derivative(u, k, s, out)
     })
 }
@@ -440,14 +455,8 @@ pub unsafe fn get_adjoint_derivative<M: Model>(
     n_sensitivity: usize,
 ) -> fmi3Status {
     with::<M>(c, Function::PartialDerivatives, "fmi3GetAdjointDerivative", |comp| {
-        if n_seed != n_unknowns || n_sensitivity != n_knowns {
-            return Err(Failure::error(format!(
-                "{n_seed} seed values for {n_unknowns} unknowns and {n_sensitivity} sensitivities for {n_knowns} knowns: they must agree (scalar variables)"
-            )));
-        }
-        let (u, k, s, out) = derivative_arrays(unknowns, n_unknowns, knowns, n_knowns, seed, n_seed, sensitivity, n_sensitivity)?;
-        model_variables_only(comp.instance.table(), u, "an unknown of a partial derivative")?;
-        model_variables_only(comp.instance.table(), k, "a known of a partial derivative")?;
+        let table = comp.instance.table();
+        let (u, k, s, out) = derivative_arrays(table, Seeded::Unknowns, unknowns, n_unknowns, knowns, n_knowns, seed, n_seed, sensitivity, n_sensitivity)?;
         let (mut direction, mut column) = (vec![0.0; k.len()], vec![0.0; u.len()]);
         for j in 0..k.len() {
             direction.fill(0.0);
