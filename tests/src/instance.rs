@@ -164,6 +164,48 @@ pub struct DoStepOutcome {
     pub last_successful_time: f64,
 }
 
+/// What both versions' instantiation functions take from the options: the instance name, the
+/// guid (FMI 2.0) or instantiationToken (FMI 3.0), the resource location (FMI 2.0, a URI) or
+/// path (FMI 3.0) as C strings, and the log sink the FMU's logger reaches (its environment).
+struct Arguments {
+    name: CString,
+    token: CString,
+    resources: Option<CString>,
+    log: LogCollector,
+    /// From Box::into_raw: owned by the instance once made (freed in Drop), else by the caller.
+    sink: *mut LogSink,
+}
+
+impl Arguments {
+    fn of(fmu: &Fmu, options: &InstantiateOptions, version: FmiVersion) -> Result<Arguments> {
+        let (token_label, resource_label) = match version {
+            FmiVersion::Fmi2 => ("guid", "resource location"),
+            FmiVersion::Fmi3 => ("instantiationToken", "resource path"),
+        };
+        let name = c_string("instance name", &options.instance_name)?;
+        let token = c_string(token_label, options.guid.as_deref().unwrap_or(&fmu.model_description().guid))?;
+        let resources = match &options.resource_location {
+            ResourceLocation::Unpacked => {
+                let unpacked = match version {
+                    FmiVersion::Fmi2 => fmu.resource_uri(),
+                    FmiVersion::Fmi3 => fmu.resource_path(),
+                };
+                Some(c_string(resource_label, &unpacked)?)
+            }
+            ResourceLocation::Null => None,
+            ResourceLocation::Custom(s) => Some(c_string(resource_label, s)?),
+        };
+        // Made last: nothing fallible follows, so the sink never leaks.
+        let log = LogCollector::default();
+        let sink = Box::into_raw(Box::new(LogSink {
+            collector: log.clone(),
+            echo: options.echo_log,
+            instance_name: options.instance_name.clone(),
+        }));
+        Ok(Arguments { name, token, resources, log, sink })
+    }
+}
+
 /// One FMU instance (`fmi2Component` / `fmi3Instance`), freed with `fmi2FreeInstance` /
 /// `fmi3FreeInstance` on drop.
 ///
@@ -258,25 +300,7 @@ impl Instance {
     }
 
     fn new_fmi2(fmu: &Arc<Fmu>, options: InstantiateOptions) -> Result<Instance> {
-        let name = c_string("instance name", &options.instance_name)?;
-        let guid = c_string(
-            "guid",
-            options
-                .guid
-                .as_deref()
-                .unwrap_or(&fmu.model_description().guid),
-        )?;
-        let resources = match &options.resource_location {
-            ResourceLocation::Unpacked => Some(c_string("resource location", &fmu.resource_uri())?),
-            ResourceLocation::Null => None,
-            ResourceLocation::Custom(s) => Some(c_string("resource location", s)?),
-        };
-        let log = LogCollector::default();
-        let sink = Box::into_raw(Box::new(LogSink {
-            collector: log.clone(),
-            echo: options.echo_log,
-            instance_name: options.instance_name.clone(),
-        }));
+        let Arguments { name, token: guid, resources, log, sink } = Arguments::of(fmu, &options, FmiVersion::Fmi2)?;
         let callbacks = Box::into_raw(Box::new(CallbackFunctions {
             logger: Some(logger_callback),
             allocate_memory: if options.memory_callbacks {
@@ -312,26 +336,8 @@ impl Instance {
 
     fn new_fmi3(fmu: &Arc<Fmu>, options: InstantiateOptions, kind: Fmi3Kind) -> Result<Instance> {
         let f = *fmu.fmi3_functions().expect("an FMI 3.0 FMU");
-        let name = c_string("instance name", &options.instance_name)?;
-        let token = c_string(
-            "instantiationToken",
-            options
-                .guid
-                .as_deref()
-                .unwrap_or(&fmu.model_description().guid),
-        )?;
-        let resources = match &options.resource_location {
-            ResourceLocation::Unpacked => Some(c_string("resource path", &fmu.resource_path())?),
-            ResourceLocation::Null => None,
-            ResourceLocation::Custom(s) => Some(c_string("resource path", s)?),
-        };
+        let Arguments { name, token, resources, log, sink } = Arguments::of(fmu, &options, FmiVersion::Fmi3)?;
         let resource_ptr = resources.as_ref().map_or(ptr::null(), |r| r.as_ptr());
-        let log = LogCollector::default();
-        let sink = Box::into_raw(Box::new(LogSink {
-            collector: log.clone(),
-            echo: options.echo_log,
-            instance_name: options.instance_name.clone(),
-        }));
         let (visible, logging_on) = (fmi3_bool(options.visible), fmi3_bool(options.logging_on));
         let free_sink = |sink: *mut LogSink| {
             // SAFETY: nothing was called with the sink yet; it came from Box::into_raw above.
