@@ -52,13 +52,9 @@ pub const PROBLEMS_SYMBOL: &str = "fmu_runtime_model_problems";
 pub struct ModelInfo {
     /// The FMI modelIdentifier (`RlcCircuit`): names the .fmu and the binary inside it.
     pub identifier: String,
-    /// The complete modelDescription.xml.
-    pub description: String,
-    /// The complete documentation/index.html (with the activity table of the default experiment).
-    pub documentation: String,
     /// Table 3.1 and the activity table as text (empty for a model without elements).
     pub effects: String,
-    /// One FMU per FMI version the library exports (the first is the one above, FMI 2.0).
+    /// One FMU per FMI version the library exports, FMI 2.0 first; never empty.
     pub editions: Vec<Edition>,
 }
 
@@ -71,14 +67,21 @@ pub struct Edition {
     pub folder: String,
     /// Its binaries folder (`linux64`, `x86_64-linux`).
     pub platform: String,
+    /// The complete modelDescription.xml.
     pub description: String,
+    /// The complete documentation/index.html (with the activity table of the default experiment).
     pub documentation: String,
 }
 
 impl ModelInfo {
-    /// How many `<ScalarVariable` elements the description declares.
+    /// The FMI 2.0 modelDescription.xml (the first edition's).
+    pub fn description(&self) -> &str {
+        &self.editions[0].description
+    }
+
+    /// How many `<ScalarVariable` elements the FMI 2.0 description declares.
     pub fn variable_count(&self) -> usize {
-        count_variables(&self.description)
+        count_variables(self.description())
     }
 }
 
@@ -101,7 +104,6 @@ pub fn extract(path: &Path, package: &str) -> Result<ModelInfo, String> {
         return Err(format!("{package}: the model is not valid:\n  {}", problems.replace('\n', "\n  ")));
     }
     let identifier = call_string(&lib, IDENTIFIER_SYMBOL, package)?;
-    let description = call_string(&lib, DESCRIPTION_SYMBOL, package)?;
     let table = call_optional_string(&lib, EFFECTS_HTML_SYMBOL)?.filter(|t| !t.is_empty());
     let with_table = |page: String| match &table {
         Some(_) if !page.contains(ACTIVITY_TABLE_MARK) => {
@@ -110,7 +112,6 @@ pub fn extract(path: &Path, package: &str) -> Result<ModelInfo, String> {
         Some(t) => Ok(page.replacen(ACTIVITY_TABLE_MARK, t, 1)),
         None => Ok(page),
     };
-    let documentation = with_table(call_string(&lib, DOCUMENTATION_SYMBOL, package)?)?;
     let mut editions = Vec::new();
     for (n, line) in call_optional_string(&lib, STANDARDS_SYMBOL)?.unwrap_or_default().lines().enumerate() {
         let [version, folder, platform] = line.split('\t').collect::<Vec<_>>()[..] else {
@@ -128,20 +129,17 @@ pub fn extract(path: &Path, package: &str) -> Result<ModelInfo, String> {
         });
     }
     if editions.is_empty() {
+        // A library that lists no standards exports FMI 2.0 only, through the plain symbols.
         let platform = crate::package::platform().map(|(dir, _)| dir.to_owned()).ok_or_else(|| {
             format!("{package}: FMI 2.0 defines no binaries/ folder for {}-{}", std::env::consts::OS, std::env::consts::ARCH)
         })?;
-        editions.push(Edition { version: "2.0".into(), folder: String::new(), platform, description: description.clone(), documentation: documentation.clone() });
+        let description = call_string(&lib, DESCRIPTION_SYMBOL, package)?;
+        let documentation = with_table(call_string(&lib, DOCUMENTATION_SYMBOL, package)?)?;
+        editions.push(Edition { version: "2.0".into(), folder: String::new(), platform, description, documentation });
     }
     let effects = call_optional_string(&lib, EFFECTS_TEXT_SYMBOL)?.unwrap_or_default();
     drop(lib);
-    let info = ModelInfo {
-        identifier,
-        description,
-        documentation,
-        effects,
-        editions,
-    };
+    let info = ModelInfo { identifier, effects, editions };
     check(&info, package)?;
     Ok(info)
 }
@@ -217,7 +215,9 @@ fn chain(e: &dyn std::error::Error) -> String {
 /// The checks that keep a wrong FMU from being written.
 fn check(info: &ModelInfo, package: &str) -> Result<(), String> {
     validate_identifier(&info.identifier).map_err(|e| format!("{package}: {e}"))?;
-    check_one(&info.identifier, &info.description, &info.documentation, DESCRIPTION_SYMBOL, package)?;
+    if info.editions.is_empty() {
+        return Err(format!("{package}: the library exports no FMI version"));
+    }
     for e in &info.editions {
         check_one(&info.identifier, &e.description, &e.documentation, &format!("{DESCRIPTION_OF_SYMBOL} (FMI {})", e.version), package)?;
     }
@@ -314,13 +314,14 @@ mod tests {
 </fmiModelDescription>"#;
 
     fn info(id: &str, xml: &str) -> ModelInfo {
-        ModelInfo {
-            identifier: id.into(),
+        let edition = Edition {
+            version: "2.0".into(),
+            folder: String::new(),
+            platform: "linux64".into(),
             description: xml.into(),
             documentation: "<html></html>".into(),
-            effects: String::new(),
-            editions: Vec::new(),
-        }
+        };
+        ModelInfo { identifier: id.into(), effects: String::new(), editions: vec![edition] }
     }
 
     #[test]
@@ -364,7 +365,7 @@ mod tests {
             .unwrap_err()
             .contains("no modelIdentifier"));
         let mut empty_doc = info("RlcCircuit", XML);
-        empty_doc.documentation = " \n".into();
+        empty_doc.editions[0].documentation = " \n".into();
         assert!(check(&empty_doc, "p").is_err());
     }
 

@@ -376,7 +376,7 @@ fn run(opts: &Options) -> Result<usize, String> {
         match package_one(root, &out_dir, &lib_path, &info) {
             Ok((path, size)) => {
                 written += 1;
-                descriptions.insert(info.identifier.clone(), info.description.clone());
+                descriptions.insert(info.identifier.clone(), info.description().to_owned());
                 println!(
                     "  {:<20}{}  ({} kB, {} variables)",
                     info.identifier,
