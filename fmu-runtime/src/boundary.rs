@@ -120,7 +120,7 @@ pub trait CallTable: Copy {
 /// Runs `body` if the adapter's table allows `function` for the instance's interface and phase.
 pub unsafe fn checked<M: Model, F: CallTable>(c: *mut std::ffi::c_void, function: F, name: &str, body: impl FnOnce(&mut Component<M>) -> CallResult) -> Option<Status> {
     let legal = |instance: &Instance<M>| {
-        let (phase, interface) = (instance.phase, instance.interface);
+        let (phase, interface) = (instance.phase(), instance.interface);
         if (function.is_model_exchange_only() && interface == crate::instance::Interface::CoSimulation)
             || (function.is_co_simulation_only() && interface == crate::instance::Interface::ModelExchange)
         {
@@ -164,7 +164,7 @@ pub unsafe fn guarded<M: Model>(
             status
         }
         Err(payload) => {
-            comp.instance.phase = Phase::Fatal;
+            comp.instance.enter_fatal();
             let msg = format!("{name}: internal error (panic): {}; the instance can only be freed", panic_message(&*payload));
             comp.instance.logger.log(Status::Fatal, &msg);
             Status::Fatal

@@ -118,16 +118,16 @@ fn unwritten<M: Model>(model: &M, table: &VariableTable, t: f64) -> Vec<String> 
     let mut problems = Vec::new();
     let defaults = table.start_values();
     for config in configurations(table) {
-        let Some((values, states)) = probe_points(table, &config).into_iter().next() else { continue };
+        let Some(values) = probe_points(table, &config).into_iter().next() else { continue };
         let mut calculated = vec![sentinel; table.n_calculated];
         let mut derivatives = vec![0.0; table.n_states];
         let evaluated = catch_unwind(AssertUnwindSafe(|| {
-            crate::model::evaluate(model, table, t, &values.known, &states, &values.integers, &values.booleans, &mut derivatives, &mut calculated)
+            crate::model::evaluate(model, table, t, &values.known, &values.states, &values.integers, &values.booleans, &mut derivatives, &mut calculated)
         }));
         if evaluated.is_err() {
             continue; // a model that panics here is reported when it runs
         }
-        problems.extend(unreported_powers(model, table, t, &values, &states, &config, &defaults, &problems));
+        problems.extend(unreported_powers(model, table, t, &values, &config, &defaults, &problems));
         for (pos, var) in table.variables.iter().enumerate() {
             let Slot::Calculated(i) = var.slot else { continue };
             if calculated[i].to_bits() != sentinel.to_bits() || problems.iter().any(|p: &String| p.contains(&format!("'{}'", var.name))) {
@@ -168,14 +168,13 @@ fn configuration_text(table: &VariableTable, config: &Values, defaults: &Values)
 /// The declared elements whose power `Model::derivatives` does not report (`der.power`) at
 /// one point of a configuration: their activity would stay 0 and the energy balance would
 /// leave them out. `known` lists problems already found (one per element is enough).
-#[allow(clippy::too_many_arguments)]
-fn unreported_powers<M: Model>(model: &M, table: &VariableTable, t: f64, values: &Values, states: &[f64], config: &Values, defaults: &Values, known: &[String]) -> Vec<String> {
+fn unreported_powers<M: Model>(model: &M, table: &VariableTable, t: f64, values: &Values, config: &Values, defaults: &Values, known: &[String]) -> Vec<String> {
     if table.elements.is_empty() {
         return Vec::new();
     }
     let (mut rates, mut powers) = (vec![0.0; table.n_states], vec![0.0; table.elements.len()]);
     let run = catch_unwind(AssertUnwindSafe(|| {
-        crate::model::evaluate_powers(model, t, &values.known, states, &values.integers, &values.booleans, &mut rates, &mut powers)
+        crate::model::evaluate_powers(model, t, &values.known, &values.states, &values.integers, &values.booleans, &mut rates, &mut powers)
     }));
     if run.is_err() {
         return Vec::new();
@@ -214,20 +213,20 @@ fn constant_outputs<M: Model>(model: &M, table: &VariableTable, structure: &Stru
         let var = &table.variables[pos];
         let mut moves = false;
         'configs: for config in configurations(table) {
-            for (values, states) in probe_points(table, &config) {
-                let Some(p0) = evaluate(model, table, t, &values, &states, false) else { return problems };
-                let value = |p: &Point| unknown_value(table, var, p);
+            for values in probe_points(table, &config) {
+                let Some(p0) = evaluate(model, table, t, &values, false) else { return problems };
+                let value = |p: &Point| unknown_value(var, p);
                 // Time, then each integer and boolean slot (modes included), moved in turn.
-                let mut trials = vec![evaluate(model, table, later, &values, &states, false)];
+                let mut trials = vec![evaluate(model, table, later, &values, false)];
                 for i in 0..values.integers.len() {
                     let mut v = values.clone();
                     v.integers[i] = if v.integers[i] < i32::MAX { v.integers[i] + 1 } else { v.integers[i] - 1 };
-                    trials.push(evaluate(model, table, t, &v, &states, false));
+                    trials.push(evaluate(model, table, t, &v, false));
                 }
                 for i in 0..values.booleans.len() {
                     let mut v = values.clone();
                     v.booleans[i] = !v.booleans[i];
-                    trials.push(evaluate(model, table, t, &v, &states, false));
+                    trials.push(evaluate(model, table, t, &v, false));
                 }
                 // A tunable parameter moves an output while the instance steps (a set point echoed
                 // to an output is a signal, not a constant).
@@ -235,7 +234,7 @@ fn constant_outputs<M: Model>(model: &M, table: &VariableTable, structure: &Stru
                     if let Slot::Known(i) = tunable.slot {
                         let mut v = values.clone();
                         v.known[i] = if v.known[i] == 0.0 { 1.0 } else { 2.0 * v.known[i] };
-                        trials.push(evaluate(model, table, t, &v, &states, false));
+                        trials.push(evaluate(model, table, t, &v, false));
                     }
                 }
                 if trials.iter().flatten().any(|p1| matches!((value(&p0), value(p1)), (Some(a), Some(b)) if moved(a, b))) {
@@ -293,10 +292,10 @@ struct Point {
     states: Vec<f64>,
 }
 
-/// All unknowns evaluated at one point. At initialization (`initial`), the calculated states
-/// are first computed from the knowns, as the instance does.
-fn evaluate<M: Model>(model: &M, table: &VariableTable, t: f64, values: &Values, states: &[f64], initial: bool) -> Option<Point> {
-    let mut p = Point { calculated: values.calculated.clone(), derivatives: values.derivatives.clone(), states: states.to_vec() };
+/// All unknowns evaluated at one point (the knowns and states of `values`). At initialization
+/// (`initial`), the calculated states are first computed from the knowns, as the instance does.
+fn evaluate<M: Model>(model: &M, table: &VariableTable, t: f64, values: &Values, initial: bool) -> Option<Point> {
+    let mut p = Point { calculated: values.calculated.clone(), derivatives: values.derivatives.clone(), states: values.states.clone() };
     catch_unwind(AssertUnwindSafe(|| {
         if initial {
             crate::model::initialize_states(model, table, t, &values.known, &values.integers, &values.booleans, &mut p.states).ok()?;
@@ -308,11 +307,11 @@ fn evaluate<M: Model>(model: &M, table: &VariableTable, t: f64, values: &Values,
     Some(p)
 }
 
-fn unknown_value(table: &VariableTable, var: &Variable, p: &Point) -> Option<f64> {
+fn unknown_value(var: &Variable, p: &Point) -> Option<f64> {
     match var.slot {
         Slot::Calculated(i) => Some(p.calculated[i]),
         Slot::Derivative(i) => Some(p.derivatives[i]),
-        Slot::Known(_) => table.state_index(var).map(|s| p.states[s]),
+        Slot::State(s) => Some(p.states[s]),
         _ => None,
     }
 }
@@ -339,20 +338,20 @@ impl Known<'_> {
 
     /// Moves a real known (an input, a parameter or a state) to its value in a far point;
     /// false for integers and booleans, which `perturb` already moves by a whole step.
-    fn jump(&self, values: &mut Values, states: &mut [f64], far_values: &Values, far_states: &[f64]) -> bool {
+    fn jump(&self, values: &mut Values, far: &Values) -> bool {
         match *self {
-            Known::Real(_, i) => values.known[i] = far_values.known[i],
-            Known::State(_, s) => states[s] = far_states[s],
+            Known::Real(_, i) => values.known[i] = far.known[i],
+            Known::State(_, s) => values.states[s] = far.states[s],
             Known::Integer(..) | Known::Boolean(..) => return false,
         }
         true
     }
 
-    fn perturb(&self, values: &mut Values, states: &mut [f64]) {
+    fn perturb(&self, values: &mut Values) {
         let step = |x: f64| x + 1e-3 * (x.abs() + 1.0);
         match *self {
             Known::Real(_, i) => values.known[i] = step(values.known[i]),
-            Known::State(_, s) => states[s] = step(states[s]),
+            Known::State(_, s) => values.states[s] = step(values.states[s]),
             Known::Integer(v, i) => {
                 let n = values.integers[i];
                 let max = v.max.map(|m| m as i32).unwrap_or(i32::MAX);
@@ -366,22 +365,21 @@ impl Known<'_> {
 /// The operating points at which dependencies are probed: the start values with states and
 /// inputs moved off zero (where a product such as x*u would hide a dependency), once upward,
 /// once downward with different offsets.
-fn probe_points(table: &VariableTable, base: &Values) -> Vec<(Values, Vec<f64>)> {
+fn probe_points(table: &VariableTable, base: &Values) -> Vec<Values> {
     let nominals = table.state_nominals();
     [(0.31, 0.17), (-0.53, 0.29)]
         .iter()
         .map(|(offset, spread)| {
             let mut v = base.clone();
-            let mut states = Vec::with_capacity(table.n_states);
-            for (s, k) in table.state_known_index.iter().enumerate() {
-                states.push(v.known[*k] + (offset + spread * s as f64) * nominals[s]);
+            for (s, x) in v.states.iter_mut().enumerate() {
+                *x += (offset + spread * s as f64) * nominals[s];
             }
             for (j, var) in table.variables.iter().filter(|v| v.causality == Causality::Input).enumerate() {
                 if let Slot::Known(i) = var.slot {
                     v.known[i] += offset + spread * j as f64;
                 }
             }
-            (v, states)
+            v
         })
         .collect()
 }
@@ -390,16 +388,15 @@ fn probe_points(table: &VariableTable, base: &Values) -> Vec<(Values, Vec<f64>)>
 /// their magnitude plus nominal, down and up): a threshold, a saturation or a latch in the
 /// equations is flat near the start and moves only there. Equations may fail at such a point
 /// (a square root of a negative value): the point is then skipped, not held against the model.
-fn far_points(table: &VariableTable, base: &Values) -> Vec<(Values, Vec<f64>)> {
+fn far_points(table: &VariableTable, base: &Values) -> Vec<Values> {
     let nominals = table.state_nominals();
     [-1.5, 2.5]
         .iter()
         .map(|c| {
             let mut v = base.clone();
-            let mut states = Vec::with_capacity(table.n_states);
-            for (s, k) in table.state_known_index.iter().enumerate() {
-                let x0 = v.known[*k];
-                states.push(x0 + c * (x0.abs() + nominals[s]) * (1.0 + 0.1 * s as f64));
+            for (s, x) in v.states.iter_mut().enumerate() {
+                let x0 = *x;
+                *x = x0 + c * (x0.abs() + nominals[s]) * (1.0 + 0.1 * s as f64);
             }
             for (j, var) in table.variables.iter().filter(|v| v.causality == Causality::Input).enumerate() {
                 if let Slot::Known(i) = var.slot {
@@ -407,7 +404,7 @@ fn far_points(table: &VariableTable, base: &Values) -> Vec<(Values, Vec<f64>)> {
                     v.known[i] = u0 + c * (u0.abs() + 1.0) * (1.0 + 0.1 * j as f64);
                 }
             }
-            (v, states)
+            v
         })
         .collect()
 }
@@ -447,13 +444,13 @@ fn dependencies<M: Model>(model: &M, table: &VariableTable, unknowns: &[&Variabl
     let mut deps: Vec<Dependencies> = vec![Some(BTreeSet::new()); unknowns.len()];
     for config in configurations(table) {
         let far = far_points(table, &config);
-        for (values, states) in probe_points(table, &config) {
-            let Some(p0) = evaluate(model, table, t, &values, &states, initial) else {
+        for values in probe_points(table, &config) {
+            let Some(p0) = evaluate(model, table, t, &values, initial) else {
                 return vec![None; unknowns.len()];
             };
             let mut record = |known: &Known, p1: &Point| {
                 for (u, dep) in unknowns.iter().zip(deps.iter_mut()) {
-                    let (a, b) = (unknown_value(table, u, &p0), unknown_value(table, u, p1));
+                    let (a, b) = (unknown_value(u, &p0), unknown_value(u, p1));
                     if let (Some(a), Some(b), Some(set)) = (a, b, dep.as_mut()) {
                         if moved(a, b) {
                             set.insert(value_reference_of(known.variable()));
@@ -462,18 +459,18 @@ fn dependencies<M: Model>(model: &M, table: &VariableTable, unknowns: &[&Variabl
                 }
             };
             for known in knowns {
-                let (mut v, mut s) = (values.clone(), states.clone());
-                known.perturb(&mut v, &mut s);
-                let Some(p1) = evaluate(model, table, t, &v, &s, initial) else {
+                let mut v = values.clone();
+                known.perturb(&mut v);
+                let Some(p1) = evaluate(model, table, t, &v, initial) else {
                     return vec![None; unknowns.len()];
                 };
                 record(known, &p1);
                 // A threshold in the equations is flat under a small perturbation: also jump
                 // this one known to each far point (where the equations may fail: skipped).
-                for (far_values, far_states) in &far {
-                    let (mut v, mut s) = (values.clone(), states.clone());
-                    if known.jump(&mut v, &mut s, far_values, far_states) && (v.known != values.known || s != states) {
-                        if let Some(p1) = evaluate(model, table, t, &v, &s, initial) {
+                for far_values in &far {
+                    let mut v = values.clone();
+                    if known.jump(&mut v, far_values) && (v.known != values.known || v.states != values.states) {
+                        if let Some(p1) = evaluate(model, table, t, &v, initial) {
                             record(known, &p1);
                         }
                     }
@@ -494,9 +491,8 @@ pub fn structure<M: Model>(model: &M, table: &VariableTable, t: f64) -> Structur
     let mut init_knowns = Vec::new();
     for v in vars {
         let k = match v.slot {
-            Slot::Known(i) if v.causality == Causality::Input => Known::Real(v, i),
-            Slot::Known(_) if table.state_index(v).is_some() => Known::State(v, table.state_index(v).expect("a declared state")),
             Slot::Known(i) => Known::Real(v, i),
+            Slot::State(s) => Known::State(v, s),
             // Discrete modes (Integer locals) are no knowns: they hold between events.
             Slot::Integer(i) if v.causality == Causality::Parameter => Known::Integer(v, i),
             Slot::Boolean(i) => Known::Boolean(v, i),

@@ -329,7 +329,7 @@ pub(crate) mod tests {
     fn run<M: Model>(steps: usize) -> (crate::variables::VariableTable, Vec<f64>) {
         let (model, _, table) = crate::model::declare::<M>();
         let values = table.start_values();
-        let mut x: Vec<f64> = table.state_known_index.iter().map(|k| values.known[*k]).collect();
+        let mut x = values.states.clone();
         let (mut der, mut calc) = (vec![0.0; table.n_states], vec![0.0; table.n_calculated]);
         let h = 1e-4;
         let mut worst = 0.0f64;

@@ -2,7 +2,7 @@
 //!
 //! The `OdeSolverProblem` (diffsol's) is built once per instance (at the end of
 //! initialization). Its parameter vector is the instance's store of known reals (parameters,
-//! inputs, state start values) followed by each known's first and second time derivative and the
+//! inputs; not the states, which are the ODE's x) followed by each known's first and second time derivative and the
 //! time they refer to, refreshed before each step: inputs set by the master are held constant
 //! over the step (zero-order hold) unless the master gave their derivatives
 //! (fmi2SetRealInputDerivatives), then they follow u + u' (t - t_k) + u'' (t - t_k)^2 / 2.
@@ -234,18 +234,14 @@ impl<'a> InputMotion<'a> {
 }
 
 /// Writes the solver's parameter vector [known (n), slopes (n), curvatures (n), since, moving]
-/// into `p`, canonical: the state start slots of the knowns (`state_known`, overwritten by
-/// every step and never read by the equations, which read the states from x) are zero, and so
-/// are the slopes, curvatures and `since` when no input moves, so that steady stepping sees the
-/// same vector step after step, and an instance restored from an FMU state the same vector as
-/// the one that saved it.
-fn fill_parameters(p: &mut Vec<f64>, known: &[f64], motion: &InputMotion, state_known: &[usize]) {
+/// into `p`, canonical: the slopes, curvatures and `since` are zero when no input moves, so
+/// that steady stepping sees the same vector step after step, and an instance restored from an
+/// FMU state the same vector as the one that saved it. The states are not in it (they are not
+/// knowns: the equations read them from x).
+fn fill_parameters(p: &mut Vec<f64>, known: &[f64], motion: &InputMotion) {
     let moving = motion.moving();
     p.clear();
     p.extend_from_slice(known);
-    for k in state_known {
-        p[*k] = 0.0;
-    }
     if moving {
         p.extend_from_slice(motion.slopes);
         p.extend_from_slice(motion.curvatures);
@@ -337,8 +333,6 @@ pub struct Integrator {
     method: Box<dyn Method>,
     rtol: f64,
     atol: Vec<f64>,
-    /// The known-reals slots of the state start values (zero in the parameter vector).
-    state_known: Vec<usize>,
     /// The parameter vector set in the problem, and the next one (a buffer).
     p: Vec<f64>,
     p_next: Vec<f64>,
@@ -374,7 +368,6 @@ impl Integrator {
         method: Solver,
         rtol: f64,
         nominals: &[f64],
-        state_known: &[usize],
         activities: &[usize],
     ) -> Result<Self, String> {
         let atol: Vec<f64> = nominals.iter().map(|n| ABSOLUTE_PER_RELATIVE * rtol * n.abs().max(f64::MIN_POSITIVE)).collect();
@@ -408,7 +401,7 @@ impl Integrator {
         let rhs: RhsFn = Box::new(f.clone());
         let zeros = vec![0.0; known.len()];
         let mut p = Vec::with_capacity(3 * known.len() + 2);
-        fill_parameters(&mut p, known, &InputMotion::still(&zeros), state_known);
+        fill_parameters(&mut p, known, &InputMotion::still(&zeros));
         let ctx = NalgebraContext::default();
         let eqn = Equations { rhs: Box::new(f), jac, p: Vect::zeros(p.len(), ctx), n_states, ctx };
         let problem = OdeBuilder::<Mat>::new()
@@ -430,7 +423,6 @@ impl Integrator {
             method,
             rtol,
             atol,
-            state_known: state_known.to_vec(),
             p_next: Vec::with_capacity(p.len()),
             p,
             quadrature,
@@ -494,7 +486,7 @@ impl Integrator {
         let was_moving = self.p[3 * self.n_known + 1] != 0.0;
         if knowns_set || was_moving || motion.moving() {
             let mut p = std::mem::take(&mut self.p_next);
-            fill_parameters(&mut p, known, motion, &self.state_known);
+            fill_parameters(&mut p, known, motion);
             if !same_bits(&p, &self.p) {
                 let ctx = *self.problem.context();
                 self.problem.eqn_mut().set_params(&Vect::from_slice(&p, ctx));

@@ -235,20 +235,16 @@ pub fn declare<M: Model>() -> (M, RuntimeVariables, crate::variables::VariableTa
 
 /// The first derivative, calculated value (output, local, calculated parameter) or event
 /// indicator that is not finite at one point, or what the equations panicked with. The states
-/// are `states`, or (`None`) the start values with the calculated ones computed afresh.
-fn first_non_finite<M: Model>(model: &M, table: &crate::variables::VariableTable, time: f64, values: &crate::values::Values, states: Option<&[f64]>) -> Option<String> {
+/// are those of `values`, with the calculated ones computed afresh when `initial`.
+fn first_non_finite<M: Model>(model: &M, table: &crate::variables::VariableTable, time: f64, values: &crate::values::Values, initial: bool) -> Option<String> {
     use crate::variables::Slot;
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        let states = match states {
-            Some(x) => x.to_vec(),
-            None => {
-                let mut x: Vec<f64> = table.state_known_index.iter().map(|k| values.known[*k]).collect();
-                if let Err(message) = initialize_states(model, table, time, &values.known, &values.integers, &values.booleans, &mut x) {
-                    return Some(message);
-                }
-                x
+        let mut states = values.states.clone();
+        if initial {
+            if let Err(message) = initialize_states(model, table, time, &values.known, &values.integers, &values.booleans, &mut states) {
+                return Some(message);
             }
-        };
+        }
         let mut derivatives = vec![0.0; table.n_states];
         let mut calculated = values.calculated.clone();
         evaluate(model, table, time, &values.known, &states, &values.integers, &values.booleans, &mut derivatives, &mut calculated);
@@ -279,10 +275,10 @@ fn first_non_finite<M: Model>(model: &M, table: &crate::variables::VariableTable
 /// inside its declared range can still be outside what the equations take (an inductance at its
 /// declared minimum, 2.2e-308 H, makes di/dt infinite); the message then names the parameters (or
 /// inputs, or state start values) responsible: those set away from their defaults whose default
-/// alone makes every value finite again.
-pub fn check_finite_start<M: Model>(model: &M, table: &crate::variables::VariableTable, time: f64, values: &crate::values::Values, states: &[f64]) -> Result<(), String> {
+/// alone makes every value finite again. The states are those of `values`.
+pub fn check_finite_start<M: Model>(model: &M, table: &crate::variables::VariableTable, time: f64, values: &crate::values::Values) -> Result<(), String> {
     use crate::variables::{number, Slot, Start};
-    let Some(what) = first_non_finite(model, table, time, values, Some(states)) else { return Ok(()) };
+    let Some(what) = first_non_finite(model, table, time, values, false) else { return Ok(()) };
     let defaults = table.start_values();
     let mut moved = Vec::new();
     let mut culprits = Vec::new();
@@ -292,6 +288,10 @@ pub fn check_finite_start<M: Model>(model: &M, table: &crate::variables::Variabl
             (Slot::Known(i), Some(Start::Real(d))) if values.known[i].to_bits() != d.to_bits() => {
                 trial.known[i] = d;
                 (number(values.known[i]), number(d))
+            }
+            (Slot::State(s), Some(Start::Real(d))) if values.states[s].to_bits() != d.to_bits() => {
+                trial.states[s] = d;
+                (number(values.states[s]), number(d))
             }
             (Slot::Integer(i), _) if values.integers[i] != defaults.integers[i] => {
                 trial.integers[i] = defaults.integers[i];
@@ -304,7 +304,7 @@ pub fn check_finite_start<M: Model>(model: &M, table: &crate::variables::Variabl
             _ => continue,
         };
         let text = format!("{} = {now}", var.name);
-        if first_non_finite(model, table, time, &trial, None).is_none() {
+        if first_non_finite(model, table, time, &trial, true).is_none() {
             culprits.push(format!("{text} (finite with its default {default})"));
         }
         moved.push(text);
@@ -329,18 +329,17 @@ mod tests {
         let (model, _, table) = declare::<Block>();
         let mut values = table.start_values();
         values.integers[0] = 1; // slipping forwards: der(v) = (u - F_c) / m
-        let states: Vec<f64> = table.state_known_index.iter().map(|k| values.known[*k]).collect();
-        assert_eq!(check_finite_start(&model, &table, 0.0, &values, &states), Ok(()));
+        assert_eq!(check_finite_start(&model, &table, 0.0, &values), Ok(()));
         let known = |name: &str| match table.by_name(name).unwrap().slot {
             Slot::Known(i) => i,
             _ => unreachable!(),
         };
         // m at its declared minimum alone is fine here: -1.5 / 2.2e-308 is still finite.
         values.known[known("m")] = f64::MIN_POSITIVE;
-        assert_eq!(check_finite_start(&model, &table, 0.0, &values, &states), Ok(()));
+        assert_eq!(check_finite_start(&model, &table, 0.0, &values), Ok(()));
         // With a large force it is not: both values are named, each finite with its default.
         values.known[known("u")] = 1e300;
-        let err = check_finite_start(&model, &table, 0.0, &values, &states).unwrap_err();
+        let err = check_finite_start(&model, &table, 0.0, &values).unwrap_err();
         assert!(err.starts_with("at the start der(v) = inf is not finite with "), "{err}");
         assert!(err.contains("m = 2.2250738585072014e-308 (finite with its default 1)") && err.contains("u = 1e300 (finite with its default 0)"), "{err}");
     }

@@ -1,7 +1,9 @@
 //! FMU state: get/set/free and serialize/deserialize (FMI 2.0, section 2.1.8; FMI 3.0, 3.2.4).
 //!
 //! A saved state is a [`Snapshot`] of values only (never pointers), held by the instance that
-//! made it in a [`SnapshotStore`]. The FMU state the master receives is an opaque handle
+//! made it in a [`SnapshotStore`]: a clone of the instance's [`Situation`] (the part of an
+//! instance that is saved, kept as one field of it) and the solver's own step size and
+//! lookahead. Restoring is an assignment of the situation and a solver made afresh. The FMU state the master receives is an opaque handle
 //! (slot and generation), not an address: a handle used after it was freed, freed twice, or
 //! made up is recognised and refused with an error instead of touching freed memory.
 //!
@@ -17,7 +19,10 @@ use crate::values::Values;
 pub const MAGIC: &[u8; 8] = b"FMURSST\0";
 /// 4: the explicit solver's step reaching past the communication point (`lookahead`).
 /// 5: the phase is the runtime's own (`Phase`), not an FMI 2.0 mode bit.
-pub const FORMAT_VERSION: u32 = 5;
+/// 6: the known reals no longer hold the states (`Values::states` is their one home), so the
+/// known reals, input slopes, curvatures, previous inputs and the solver's parameter vector are
+/// shorter by the number of states.
+pub const FORMAT_VERSION: u32 = 6;
 
 /// The experiment the master set up (fmi2SetupExperiment; fmi3EnterInitializationMode).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,24 +38,35 @@ impl Default for Experiment {
     }
 }
 
-/// Everything an instance needs to continue exactly from a saved point.
+/// The saved part of an instance: everything an FMU state restores but the solver's own step
+/// size and lookahead. An instance keeps it as one field, so that saving it is a clone and
+/// restoring it an assignment; what is not in it (the model, the variable table, the logger,
+/// the interface and the master's event-mode flags, the saved FMU states, caches and buffers)
+/// survives a restore.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Snapshot {
+pub struct Situation {
     pub phase: Phase,
     pub time: f64,
     pub experiment: Experiment,
+    /// Parameters, inputs, states, calculated values, derivatives, integers, booleans.
     pub values: Values,
-    pub states: Vec<f64>,
+    /// First and second time derivatives of the inputs for the next step (by known index;
+    /// fmi2SetRealInputDerivatives), cleared after each step and when the input is set.
+    pub input_slopes: Vec<f64>,
+    pub input_curvatures: Vec<f64>,
+    /// The known reals at the previous communication point and its time (input extrapolation).
+    pub previous_inputs: Option<(f64, Vec<f64>)>,
+}
+
+/// Everything an instance needs to continue exactly from a saved point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snapshot {
+    pub situation: Situation,
     /// The solver's step size at this point (None before the first step).
     pub step_size: Option<f64>,
     /// The explicit solver's last step when it reaches past this point and the next doStep
     /// would continue it (the state here was interpolated in it).
     pub lookahead: Option<Lookahead>,
-    /// Input derivatives set for the next step (by known index).
-    pub input_slopes: Vec<f64>,
-    pub input_curvatures: Vec<f64>,
-    /// The known reals at the previous communication point and its time (input extrapolation).
-    pub previous_inputs: Option<(f64, Vec<f64>)>,
 }
 
 /// FNV-1a, 64 bit. Any change of a single byte changes the hash (each step is a bijection).
@@ -136,16 +152,17 @@ pub struct Shape {
 impl Snapshot {
     /// The bytes of this state, for an FMU with this guid.
     pub fn serialize(&self, guid: &str) -> Vec<u8> {
-        let mut w = Writer(Vec::with_capacity(64 + 8 * (self.values.known.len() + self.values.calculated.len())));
+        let s = &self.situation;
+        let mut w = Writer(Vec::with_capacity(64 + 8 * (s.values.known.len() + s.values.calculated.len())));
         w.0.extend_from_slice(MAGIC);
         w.u32(FORMAT_VERSION);
         w.u32(guid.len() as u32);
         w.0.extend_from_slice(guid.as_bytes());
-        w.u32(self.phase as u32);
-        w.f64(self.time);
-        w.opt(self.experiment.tolerance);
-        w.f64(self.experiment.start_time);
-        w.opt(self.experiment.stop_time);
+        w.u32(s.phase as u32);
+        w.f64(s.time);
+        w.opt(s.experiment.tolerance);
+        w.f64(s.experiment.start_time);
+        w.opt(s.experiment.stop_time);
         w.opt(self.step_size);
         w.u8(self.lookahead.is_some() as u8);
         if let Some(la) = &self.lookahead {
@@ -157,18 +174,18 @@ impl Snapshot {
             w.reals(&r.stages);
             w.reals(&la.parameters);
         }
-        w.reals(&self.values.known);
-        w.reals(&self.values.calculated);
-        w.reals(&self.values.derivatives);
-        w.reals(&self.states);
-        w.reals(&self.input_slopes);
-        w.reals(&self.input_curvatures);
-        w.opt(self.previous_inputs.as_ref().map(|(t, _)| *t));
-        w.reals(self.previous_inputs.as_ref().map(|(_, v)| v.as_slice()).unwrap_or(&[]));
-        w.u32(self.values.integers.len() as u32);
-        self.values.integers.iter().for_each(|i| w.u32(*i as u32));
-        w.u32(self.values.booleans.len() as u32);
-        self.values.booleans.iter().for_each(|b| w.u8(*b as u8));
+        w.reals(&s.values.known);
+        w.reals(&s.values.calculated);
+        w.reals(&s.values.derivatives);
+        w.reals(&s.values.states);
+        w.reals(&s.input_slopes);
+        w.reals(&s.input_curvatures);
+        w.opt(s.previous_inputs.as_ref().map(|(t, _)| *t));
+        w.reals(s.previous_inputs.as_ref().map(|(_, v)| v.as_slice()).unwrap_or(&[]));
+        w.u32(s.values.integers.len() as u32);
+        s.values.integers.iter().for_each(|i| w.u32(*i as u32));
+        w.u32(s.values.booleans.len() as u32);
+        s.values.booleans.iter().for_each(|b| w.u8(*b as u8));
         let sum = fnv1a64(FNV_OFFSET, &w.0);
         w.0.extend_from_slice(&sum.to_le_bytes());
         w.0
@@ -257,16 +274,17 @@ impl Snapshot {
             return Err(format!("the serialized FMU state has {} unexpected trailing bytes", body.len() - r.pos));
         }
         Ok(Snapshot {
-            phase,
-            time,
-            experiment: Experiment { tolerance, start_time, stop_time },
-            values: Values { known, calculated, derivatives, integers, booleans },
-            states,
+            situation: Situation {
+                phase,
+                time,
+                experiment: Experiment { tolerance, start_time, stop_time },
+                values: Values { known, states, calculated, derivatives, integers, booleans },
+                input_slopes,
+                input_curvatures,
+                previous_inputs,
+            },
             step_size,
             lookahead,
-            input_slopes,
-            input_curvatures,
-            previous_inputs,
         })
     }
 }
@@ -342,17 +360,22 @@ mod tests {
 
     fn sample() -> Snapshot {
         Snapshot {
-            phase: Phase::Stepping,
-            time: 0.05,
-            experiment: Experiment { tolerance: Some(1e-7), start_time: 0.0, stop_time: None },
-            values: Values {
-                known: vec![1.0, 2.0, -3.5],
-                calculated: vec![0.25],
-                derivatives: vec![9.0],
-                integers: vec![3],
-                booleans: vec![true],
+            situation: Situation {
+                phase: Phase::Stepping,
+                time: 0.05,
+                experiment: Experiment { tolerance: Some(1e-7), start_time: 0.0, stop_time: None },
+                values: Values {
+                    known: vec![1.0, 2.0, -3.5],
+                    states: vec![4.0],
+                    calculated: vec![0.25],
+                    derivatives: vec![9.0],
+                    integers: vec![3],
+                    booleans: vec![true],
+                },
+                input_slopes: vec![0.0, 0.5, 0.0],
+                input_curvatures: vec![0.0, 0.0, -1.0],
+                previous_inputs: Some((0.04, vec![1.0, 2.0, -3.0])),
             },
-            states: vec![4.0],
             step_size: Some(1e-5),
             lookahead: Some(Lookahead {
                 step: StepRecord {
@@ -364,9 +387,6 @@ mod tests {
                 },
                 parameters: vec![1.0, 2.0, -3.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             }),
-            input_slopes: vec![0.0, 0.5, 0.0],
-            input_curvatures: vec![0.0, 0.0, -1.0],
-            previous_inputs: Some((0.04, vec![1.0, 2.0, -3.0])),
         }
     }
 

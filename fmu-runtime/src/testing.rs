@@ -4,10 +4,11 @@
 use crate::values::Values;
 use crate::variables::{Slot, VariableTable};
 
-/// Sets a known real, integer or boolean by its FMI name (a nonzero `value` is true).
+/// Sets a known real, state, integer or boolean by its FMI name (a nonzero `value` is true).
 pub fn set(table: &VariableTable, values: &mut Values, name: &str, value: f64) {
     match table.by_name(name).unwrap_or_else(|| panic!("no variable {name}")).slot {
         Slot::Known(i) => values.known[i] = value,
+        Slot::State(s) => values.states[s] = value,
         Slot::Integer(i) => values.integers[i] = value as i32,
         Slot::Boolean(i) => values.booleans[i] = value != 0.0,
         other => panic!("{name}: not settable here ({other:?})"),

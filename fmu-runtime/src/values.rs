@@ -13,8 +13,13 @@ use crate::variables::{BooleanParameter, Indicator, Input, IntegerParameter, Loc
 /// The stores of one instance, each indexed by the slot the declaration gave.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Values {
-    /// Parameters, inputs and state start values.
+    /// Parameters and inputs.
     pub known: Vec<f64>,
+    /// The continuous states, the one home of each state's value (`Slot::State`): the start
+    /// values before initialization (a calculated state's as the model computes it), the
+    /// current states after it. What a master reads and sets by value reference, what
+    /// fmi2Get/SetContinuousStates copy and what the solver advances.
+    pub states: Vec<f64>,
     /// Outputs, locals and calculated parameters.
     pub calculated: Vec<f64>,
     /// State derivatives at the current time.

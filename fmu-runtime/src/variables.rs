@@ -73,13 +73,17 @@ impl Initial {
     }
 }
 
-/// Where a variable's value lives inside an instance. Knowns (parameters, inputs, state start
-/// values) are read by the model's equations; calculated values (outputs, locals, calculated
+/// Where a variable's value lives inside an instance. Knowns (parameters, inputs) and states
+/// are read by the model's equations; calculated values (outputs, locals, calculated
 /// parameters) are written by them; derivatives come from `Model::derivatives`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Slot {
-    /// Index into the known reals: parameters, inputs, continuous states.
+    /// Index into the known reals: parameters and inputs.
     Known(usize),
+    /// Index into the state vector: a continuous state. Its one home holds the start value
+    /// before initialization (set by the master, or computed for a calculated state) and the
+    /// current value after it.
+    State(usize),
     /// Index into the calculated reals: outputs, locals, calculated parameters.
     Calculated(usize),
     /// Index of the state whose derivative this is.
@@ -152,7 +156,7 @@ pub struct Variable {
 impl Variable {
     pub fn base_type(&self) -> BaseType {
         match self.slot {
-            Slot::Known(_) | Slot::Calculated(_) | Slot::Derivative(_) => BaseType::Real,
+            Slot::Known(_) | Slot::State(_) | Slot::Calculated(_) | Slot::Derivative(_) => BaseType::Real,
             Slot::Integer(_) => BaseType::Integer,
             Slot::Boolean(_) => BaseType::Boolean,
         }
@@ -288,8 +292,6 @@ pub struct VariableTable {
     pub n_states: usize,
     pub n_integers: usize,
     pub n_booleans: usize,
-    /// Known-real index of each state, in state order.
-    pub state_known_index: Vec<usize>,
     /// Value reference of each state, in state order.
     pub state_value_reference: Vec<u32>,
     /// Event indicators (name, description), in declaration order.
@@ -327,7 +329,10 @@ impl VariableTable {
 
     /// The state index of a variable, if it is a continuous state.
     pub fn state_index(&self, var: &Variable) -> Option<usize> {
-        self.state_value_reference.iter().position(|vr| *vr == var.value_reference)
+        match var.slot {
+            Slot::State(s) => Some(s),
+            _ => None,
+        }
     }
 
     /// Nominal value of each state (1 where undeclared), used to scale absolute tolerances.
@@ -343,10 +348,12 @@ impl VariableTable {
         self.elements.iter().filter_map(|e| e.activity_state).collect()
     }
 
-    /// Start values of the known reals, calculated reals, integers and booleans.
+    /// Start values of the known reals, states (0 for a calculated state, which the model
+    /// computes), calculated reals, integers and booleans.
     pub fn start_values(&self) -> crate::values::Values {
         let mut v = crate::values::Values {
             known: vec![0.0; self.n_known],
+            states: vec![0.0; self.n_states],
             calculated: vec![0.0; self.n_calculated],
             derivatives: vec![0.0; self.n_states],
             integers: vec![0; self.n_integers],
@@ -355,6 +362,7 @@ impl VariableTable {
         for var in &self.variables {
             match (var.slot, var.start) {
                 (Slot::Known(i), Some(Start::Real(x))) => v.known[i] = x,
+                (Slot::State(s), Some(Start::Real(x))) => v.states[s] = x,
                 (Slot::Integer(i), Some(Start::Integer(x))) => v.integers[i] = x,
                 (Slot::Boolean(i), Some(Start::Boolean(x))) => v.booleans[i] = x,
                 _ => {}
@@ -539,13 +547,11 @@ impl Declarations {
 
     #[track_caller]
     fn state_with(&mut self, name: &str, start: Option<f64>, unit: &str) -> RealBuilder<'_, State> {
-        let k = self.next_known();
         let s = self.table.n_states;
         self.table.n_states += 1;
         let initial = if start.is_some() { Initial::Exact } else { Initial::Calculated };
-        let pos = self.real(name, unit, Causality::Local, Variability::Continuous, Some(initial), start, Slot::Known(k));
+        let pos = self.real(name, unit, Causality::Local, Variability::Continuous, Some(initial), start, Slot::State(s));
         let vr = self.table.variables[pos].value_reference;
-        self.table.state_known_index.push(k);
         self.table.state_value_reference.push(vr);
         let der_unit = units::derivative_unit(unit);
         let dpos = self.real(
@@ -902,8 +908,8 @@ mod tests {
         assert_eq!(names, vec![(0, "R"), (1, "i"), (2, "der(i)"), (3, "y"), (4, "level")]);
         assert_eq!(t.variables[2].derivative_of, Some(1));
         assert_eq!(t.variables[2].unit.as_deref(), Some("A/s"));
-        assert_eq!(t.state_known_index, vec![1]);
-        assert_eq!(t.n_known, 2);
+        assert_eq!(t.variables[1].slot, Slot::State(0), "a state lives in the state vector");
+        assert_eq!(t.n_known, 1, "the known reals are the parameters and inputs");
     }
 
     #[test]

@@ -18,14 +18,14 @@ impl<M: Model> Instance<M> {
         // initialization still fills in the calculated states.
         self.refresh_only(need);
         for (vr, o) in vrs.iter().zip(out.iter_mut()) {
-            *o = T::read(&self.values, self.table.variables[*vr as usize].slot);
+            *o = T::read(&self.now.values, self.table.variables[*vr as usize].slot);
         }
         Ok(())
     }
 
     /// fmi2SetReal/Integer/Boolean: all values are checked before any is written.
     pub fn set<T: FmiValue>(&mut self, vrs: &[u32], vals: &[T]) -> CallResult {
-        let before_init = self.phase.is_before_initialization_end();
+        let before_init = self.now.phase.is_before_initialization_end();
         for (vr, v) in vrs.iter().zip(vals) {
             let var = self.variable(*vr, T::TYPE)?;
             let settable = if before_init { var.is_settable_before_initialization() } else { var.is_settable_while_stepping() };
@@ -37,17 +37,17 @@ impl<M: Model> Instance<M> {
                     _ if !before_init => "only inputs and tunable parameters can be set while stepping",
                     _ => "it is computed by the FMU",
                 };
-                return Err(Failure::error(format!("cannot set '{}' {}: {why}", var.name, self.phase.words())));
+                return Err(Failure::error(format!("cannot set '{}' {}: {why}", var.name, self.now.phase.words())));
             }
             T::check(var, *v).map_err(|e| Failure::error(format!("refused: {e}")))?;
         }
         for (vr, v) in vrs.iter().zip(vals) {
             let slot = self.table.variables[*vr as usize].slot;
-            T::write(&mut self.values, slot, *v);
+            T::write(&mut self.now.values, slot, *v);
             if let Slot::Known(i) = slot {
                 // A new input value without derivatives is held over the next step.
-                self.input_slopes[i] = 0.0;
-                self.input_curvatures[i] = 0.0;
+                self.now.input_slopes[i] = 0.0;
+                self.now.input_curvatures[i] = 0.0;
             }
         }
         self.stale = true;

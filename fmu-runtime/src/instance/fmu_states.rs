@@ -3,38 +3,26 @@
 use super::*;
 
 impl<M: Model> Instance<M> {
+    /// The instance's situation and the solver's own bits (step size, the step it would continue).
     pub(super) fn snapshot(&self) -> Snapshot {
         Snapshot {
-            phase: self.phase,
-            time: self.time,
-            experiment: self.experiment,
-            values: self.values.clone(),
-            states: self.states.clone(),
+            situation: self.now.clone(),
             step_size: self.integrator.as_ref().and_then(|i| i.step_size),
             lookahead: self.integrator.as_ref().and_then(|i| i.lookahead()),
-            input_slopes: self.input_slopes.clone(),
-            input_curvatures: self.input_curvatures.clone(),
-            previous_inputs: self.previous_inputs.clone(),
         }
     }
 
+    /// Back to a saved situation; the caches are stale, and a Co-Simulation solver is made
+    /// afresh with the saved step size (continuing the saved step, if any).
     pub(super) fn restore(&mut self, s: Snapshot) -> CallResult {
-        let initialized = !s.phase.is_before_initialization_end();
-        self.phase = s.phase;
-        self.time = s.time;
-        self.experiment = s.experiment;
-        self.values = s.values;
-        self.states = s.states;
-        self.input_slopes = s.input_slopes;
-        self.input_curvatures = s.input_curvatures;
-        self.previous_inputs = s.previous_inputs;
+        self.now = s.situation;
         self.stale = true;
         self.knowns_set = true;
         self.integrator = None;
-        if initialized && self.interface == Interface::CoSimulation {
+        if !self.now.phase.is_before_initialization_end() && self.interface == Interface::CoSimulation {
             let mut integrator = self.remade_integrator(s.step_size).map_err(Failure::error)?;
             if let Some(lookahead) = &s.lookahead {
-                integrator.resume_lookahead(lookahead, self.time, &self.states);
+                integrator.resume_lookahead(lookahead, self.now.time, &self.now.values.states);
             }
             self.integrator = Some(integrator);
         }
@@ -58,7 +46,7 @@ impl<M: Model> Instance<M> {
             .cloned()
             .ok_or_else(|| Failure::error(format!("FMU state {handle:#x} is not a live state of this instance (freed or never made here)")))?;
         self.restore(s)?;
-        self.debug(&format!("restored the FMU state of t = {} s", self.time));
+        self.debug(&format!("restored the FMU state of t = {} s", self.now.time));
         Ok(())
     }
 

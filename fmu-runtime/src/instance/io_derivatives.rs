@@ -23,9 +23,9 @@ impl<M: Model> Instance<M> {
         self.knowns_set = true;
         for (i, order, value) in updates {
             if order == 1 {
-                self.input_slopes[i] = value;
+                self.now.input_slopes[i] = value;
             } else {
-                self.input_curvatures[i] = value;
+                self.now.input_curvatures[i] = value;
             }
         }
         Ok(())
@@ -46,23 +46,23 @@ impl<M: Model> Instance<M> {
         }
         self.refresh();
         let nominals = self.table.state_nominals();
-        let time_scale = self
+        let v = &self.now.values;
+        let time_scale = v
             .states
             .iter()
-            .zip(&self.values.derivatives)
+            .zip(&v.derivatives)
             .zip(&nominals)
             .filter(|(( _, d), _)| **d != 0.0)
             .map(|((x, d), n)| x.abs().max(n.abs()) / d.abs())
             .fold(1.0f64, f64::min);
         let h = 1e-6 * time_scale;
-        let v = &self.values;
         let at = |sign: f64| {
-            let x: Vec<f64> = self.states.iter().zip(&v.derivatives).map(|(x, d)| x + sign * h * d).collect();
+            let x: Vec<f64> = v.states.iter().zip(&v.derivatives).map(|(x, d)| x + sign * h * d).collect();
             let k: Vec<f64> = (0..v.known.len())
-                .map(|i| v.known[i] + sign * h * self.input_slopes[i] + 0.5 * h * h * self.input_curvatures[i])
+                .map(|i| v.known[i] + sign * h * self.now.input_slopes[i] + 0.5 * h * h * self.now.input_curvatures[i])
                 .collect();
             let (mut der, mut calc) = (v.derivatives.clone(), v.calculated.clone());
-            evaluate(&*self.model, &self.table, self.time + sign * h, &k, &x, &v.integers, &v.booleans, &mut der, &mut calc);
+            evaluate(&*self.model, &self.table, self.now.time + sign * h, &k, &x, &v.integers, &v.booleans, &mut der, &mut calc);
             calc
         };
         let (plus, minus) = (at(1.0), at(-1.0));

@@ -18,8 +18,8 @@ impl<M: Model> Instance<M> {
                 return Err(Failure::error(format!("stop time {stop} must be finite and not before the start time {start_time}")));
             }
         }
-        self.experiment = Experiment { tolerance, start_time, stop_time };
-        self.time = start_time;
+        self.now.experiment = Experiment { tolerance, start_time, stop_time };
+        self.now.time = start_time;
         self.stale = true;
         let stop = stop_time.map_or("no stop time".to_string(), |s| format!("stop {s} s"));
         let asked = tolerance.map_or(format!("no tolerance given (the default {})", declared_tolerance(M::tolerance_floor())), |t| format!("tolerance {t}"));
@@ -42,13 +42,13 @@ impl<M: Model> Instance<M> {
     /// declared default), tightened to the model's floor.
     pub(super) fn solver_tolerance(&self) -> f64 {
         let floor = M::tolerance_floor();
-        let asked = self.experiment.tolerance.unwrap_or(declared_tolerance(floor));
+        let asked = self.now.experiment.tolerance.unwrap_or(declared_tolerance(floor));
         floor.map_or(asked, |floor| asked.min(floor))
     }
 
     pub fn enter_initialization_mode(&mut self) -> CallResult {
-        self.phase = Phase::Initialization;
-        self.time = self.experiment.start_time;
+        self.now.phase = Phase::Initialization;
+        self.now.time = self.now.experiment.start_time;
         self.stale = true;
         self.debug("entered initialization mode");
         Ok(())
@@ -59,20 +59,20 @@ impl<M: Model> Instance<M> {
     /// message naming the parameter.
     pub fn exit_initialization_mode(&mut self) -> CallResult {
         if let Err(message) = self.check_parameters() {
-            self.phase = Phase::Error;
+            self.now.phase = Phase::Error;
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
-        if let Err(message) = self.load_state_starts() {
-            self.phase = Phase::Error;
+        if let Err(message) = self.compute_initial_states() {
+            self.now.phase = Phase::Error;
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
         self.settle_initial_modes()?;
-        if let Err(message) = crate::model::check_finite_start(&*self.model, &self.table, self.time, &self.values, &self.states) {
-            self.phase = Phase::Error;
+        if let Err(message) = crate::model::check_finite_start(&*self.model, &self.table, self.now.time, &self.now.values) {
+            self.now.phase = Phase::Error;
             return Err(Failure::error(format!("initialization failed: {message}")));
         }
         if self.interface == Interface::ModelExchange {
-            self.phase = Phase::Event;
+            self.now.phase = Phase::Event;
             self.stale = true;
             self.debug("initialization done, event mode");
             return Ok(());
@@ -80,13 +80,13 @@ impl<M: Model> Instance<M> {
         match self.make_integrator() {
             Ok(integrator) => self.integrator = Some(integrator),
             Err(message) => {
-                self.phase = Phase::Error;
+                self.now.phase = Phase::Error;
                 return Err(Failure::error(message));
             }
         }
         // With the master handling events, Co-Simulation starts in the event phase (FMI 3.0:
         // fmi3ExitInitializationMode enters Event Mode when eventModeUsed).
-        self.phase = if self.event_mode_used { Phase::Event } else { Phase::Stepping };
+        self.now.phase = if self.event_mode_used { Phase::Event } else { Phase::Stepping };
         self.stale = true;
         self.debug("initialization done");
         Ok(())
@@ -105,33 +105,28 @@ impl<M: Model> Instance<M> {
     pub(super) fn check_parameters(&self) -> Result<(), String> {
         for var in &self.table.variables {
             match var.slot {
-                Slot::Known(i) => var.check_range(self.values.known[i])?,
-                Slot::Integer(i) => var.check_range(self.values.integers[i] as f64)?,
+                Slot::Known(i) => var.check_range(self.now.values.known[i])?,
+                Slot::State(s) => var.check_range(self.now.values.states[s])?,
+                Slot::Integer(i) => var.check_range(self.now.values.integers[i] as f64)?,
                 _ => {}
             }
         }
-        let v = &self.values;
-        let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
+        let v = &self.now.values;
+        let k = Knowns::new(self.now.time, &v.known, &v.states, &v.integers, &v.booleans);
         self.model.check(&k)
     }
 
     pub fn terminate(&mut self) -> CallResult {
-        self.phase = Phase::Terminated;
+        self.now.phase = Phase::Terminated;
         self.debug("terminated");
         Ok(())
     }
 
     /// fmi2Reset: back to the state right after fmi2Instantiate (saved FMU states stay valid).
     pub fn reset(&mut self) -> CallResult {
-        self.values = self.table.start_values();
-        self.experiment = Experiment::default();
-        self.time = 0.0;
+        self.now = Situation::at_instantiation(&self.table);
         self.integrator = None;
-        self.previous_inputs = None;
-        self.input_slopes.fill(0.0);
-        self.input_curvatures.fill(0.0);
-        self.phase = Phase::Instantiated;
-        let _ = self.load_state_starts();
+        let _ = self.compute_initial_states();
         self.stale = true;
         self.knowns_set = true;
         self.debug("reset");
@@ -144,6 +139,6 @@ impl<M: Model> Instance<M> {
 
     /// fmi2GetRealStatus(fmi2LastSuccessfulTime).
     pub fn last_successful_time(&self) -> f64 {
-        self.time
+        self.now.time
     }
 }

@@ -23,7 +23,7 @@ use crate::model::{evaluate, Model, ModelInfo, RuntimeVariables};
 use crate::phase::Phase;
 pub use crate::status::{CallResult, Failure};
 use crate::status::Status;
-use crate::state::{Experiment, Shape, Snapshot, SnapshotStore};
+use crate::state::{Experiment, Shape, Situation, Snapshot, SnapshotStore};
 use crate::values::{EventIndicators, Knowns, ModeUpdate, Values};
 use crate::variables::{BaseType, Slot, Variable, VariableTable};
 
@@ -56,14 +56,18 @@ impl FmiValue for f64 {
     fn read(values: &Values, slot: Slot) -> f64 {
         match slot {
             Slot::Known(i) => values.known[i],
+            Slot::State(s) => values.states[s],
             Slot::Calculated(i) => values.calculated[i],
             Slot::Derivative(i) => values.derivatives[i],
             _ => unreachable!("checked by type"),
         }
     }
     fn write(values: &mut Values, slot: Slot, v: f64) {
-        if let Slot::Known(i) = slot {
-            values.known[i] = v;
+        match slot {
+            Slot::Known(i) => values.known[i] = v,
+            // Before initialization only (a state is not settable after it): its start value.
+            Slot::State(s) => values.states[s] = v,
+            _ => {}
         }
     }
     fn check(var: &Variable, v: f64) -> Result<(), String> {
@@ -143,20 +147,15 @@ pub struct Instance<M: Model> {
     /// each event, before the modes change, and leaves the event to the master.
     stops_at_events: bool,
     runtime: RuntimeVariables,
-    /// The known reals at the previous communication point and its time, for input
-    /// extrapolation.
-    previous_inputs: Option<(f64, Vec<f64>)>,
     model: Arc<M>,
     table: Arc<VariableTable>,
     info: ModelInfo,
     guid: &'static str,
     pub logger: Logger,
-    pub phase: Phase,
-    experiment: Experiment,
-    values: Values,
-    /// The continuous states at `time` (after initialization; before it, the start values).
-    states: Vec<f64>,
-    time: f64,
+    /// What an FMU state saves and restores: the phase, time, experiment, every value (the
+    /// continuous states among them, in their one home `now.values.states`) and the input
+    /// derivatives and previous inputs.
+    now: Situation,
     /// Outputs and derivatives are recomputed lazily, when read after a change: `stale` says
     /// that something changed, `fresh` which of the two (calculated values, derivatives) have
     /// been recomputed since (a master reading outputs after each step never pays for the
@@ -173,10 +172,6 @@ pub struct Instance<M: Model> {
     /// Boxed: `do_step` takes it out and puts it back, which moves only the pointer.
     integrator: Option<Box<Integrator>>,
     snapshots: SnapshotStore,
-    /// First and second time derivatives of the inputs for the next step (by known index;
-    /// fmi2SetRealInputDerivatives), cleared after each step and when the input is set.
-    input_slopes: Vec<f64>,
-    input_curvatures: Vec<f64>,
     /// Buffers reused by every doStep, so that steady stepping allocates nothing.
     buffers: Buffers,
 }
@@ -198,6 +193,22 @@ struct Buffers {
     balance: Vec<f64>,
 }
 
+impl Situation {
+    /// Right after instantiation (and fmi2Reset): no experiment, time 0, the declared start
+    /// values (a calculated state's is computed by the instance), no input derivatives.
+    fn at_instantiation(table: &VariableTable) -> Situation {
+        Situation {
+            phase: Phase::Instantiated,
+            time: 0.0,
+            experiment: Experiment::default(),
+            values: table.start_values(),
+            input_slopes: vec![0.0; table.n_known],
+            input_curvatures: vec![0.0; table.n_known],
+            previous_inputs: None,
+        }
+    }
+}
+
 impl<M: Model> Instance<M> {
     pub fn new(guid: &'static str, logger: Logger) -> Self {
         Self::for_interface(Interface::CoSimulation, guid, logger)
@@ -206,24 +217,18 @@ impl<M: Model> Instance<M> {
     pub fn for_interface(interface: Interface, guid: &'static str, logger: Logger) -> Self {
         let (model, runtime, table) = crate::model::declare::<M>();
         let (model, table) = (Arc::new(model), Arc::new(table));
-        let values = table.start_values();
-        let n_states = table.n_states;
+        let now = Situation::at_instantiation(&table);
         let mut inst = Instance {
             interface,
             event_mode_used: false,
             stops_at_events: false,
             runtime,
-            previous_inputs: None,
             model,
             table,
             info: M::info(),
             guid,
             logger,
-            phase: Phase::Instantiated,
-            experiment: Experiment::default(),
-            values,
-            states: vec![0.0; n_states],
-            time: 0.0,
+            now,
             stale: true,
             fresh: Fresh::default(),
             knowns_set: true,
@@ -231,18 +236,14 @@ impl<M: Model> Instance<M> {
             has_modes: false,
             integrator: None,
             snapshots: SnapshotStore::default(),
-            input_slopes: Vec::new(),
-            input_curvatures: Vec::new(),
             buffers: Buffers::default(),
         };
-        inst.input_slopes = vec![0.0; inst.table.n_known];
-        inst.input_curvatures = vec![0.0; inst.table.n_known];
         inst.buffers.slopes = vec![0.0; inst.table.n_known];
         inst.buffers.balance = vec![0.0; inst.table.n_states + inst.table.elements.len()];
         inst.has_inputs = inst.table.variables.iter().any(|v| v.causality == crate::variables::Causality::Input);
         inst.has_modes = inst.table.variables.iter().any(|v| v.is_mode());
         // A model whose initial states fail at the defaults says so at initialization.
-        let _ = inst.load_state_starts();
+        let _ = inst.compute_initial_states();
         inst
     }
 
@@ -251,7 +252,17 @@ impl<M: Model> Instance<M> {
     }
 
     pub fn time(&self) -> f64 {
-        self.time
+        self.now.time
+    }
+
+    /// The phase the instance is in (the adapters check each call against it).
+    pub fn phase(&self) -> Phase {
+        self.now.phase
+    }
+
+    /// After a panic inside a call: only freeing the instance is accepted from now on.
+    pub fn enter_fatal(&mut self) {
+        self.now.phase = Phase::Fatal;
     }
 
     /// Sends a debug message (only with debug logging on).
@@ -259,22 +270,12 @@ impl<M: Model> Instance<M> {
         self.logger.log(Status::Ok, message);
     }
 
-    /// The states at initialization: the start values, and the model's own initial values of
-    /// its calculated states (also written back, so fmi2GetReal reads them).
-    fn load_state_starts(&mut self) -> Result<(), String> {
-        for (x, k) in self.states.iter_mut().zip(&self.table.state_known_index) {
-            *x = self.values.known[*k];
-        }
-        let v = &self.values;
-        let result = crate::model::initialize_states(&*self.model, &self.table, self.time, &v.known, &v.integers, &v.booleans, &mut self.states);
-        self.store_states();
-        result
-    }
-
-    fn store_states(&mut self) {
-        for (x, k) in self.states.iter().zip(&self.table.state_known_index) {
-            self.values.known[*k] = *x;
-        }
+    /// Before initialization: the model's own initial values of its calculated states, from
+    /// the knowns, written into the state vector beside the other states' start values (so
+    /// fmi2GetReal and the equations read them).
+    fn compute_initial_states(&mut self) -> Result<(), String> {
+        let v = &mut self.now.values;
+        crate::model::initialize_states(&*self.model, &self.table, self.now.time, &v.known, &v.integers, &v.booleans, &mut v.states)
     }
 
     /// Recomputes outputs, locals and derivatives from the knowns if anything changed.
@@ -286,20 +287,20 @@ impl<M: Model> Instance<M> {
     /// since it was last computed.
     fn refresh_only(&mut self, need: Fresh) {
         if self.stale {
-            if self.phase.is_before_initialization_end() {
+            if self.now.phase.is_before_initialization_end() {
                 // A failure leaves NaN in the calculated states; exiting initialization reports it.
-                let _ = self.load_state_starts();
+                let _ = self.compute_initial_states();
             }
             self.fresh = Fresh::default();
             self.stale = false;
         }
-        let v = &mut self.values;
+        let (time, v) = (self.now.time, &mut self.now.values);
         if need.calculated && !self.fresh.calculated {
-            crate::model::evaluate_outputs(&*self.model, &self.table, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.calculated, &mut self.buffers.balance);
+            crate::model::evaluate_outputs(&*self.model, &self.table, time, &v.known, &v.states, &v.integers, &v.booleans, &mut v.calculated, &mut self.buffers.balance);
             self.fresh.calculated = true;
         }
         if need.derivatives && !self.fresh.derivatives {
-            crate::model::evaluate_derivatives(&*self.model, self.time, &v.known, &self.states, &v.integers, &v.booleans, &mut v.derivatives);
+            crate::model::evaluate_derivatives(&*self.model, time, &v.known, &v.states, &v.integers, &v.booleans, &mut v.derivatives);
             self.fresh.derivatives = true;
         }
     }

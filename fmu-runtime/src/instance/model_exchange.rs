@@ -11,13 +11,13 @@ impl<M: Model> Instance<M> {
                 "the master did not ask to handle events (eventModeUsed = false at instantiation), so this instance handles them inside its steps and never enters event mode",
             ));
         }
-        self.phase = Phase::Event;
+        self.now.phase = Phase::Event;
         Ok(())
     }
 
     /// Co-Simulation: back from the event phase to stepping.
     pub fn enter_step_mode(&mut self) -> CallResult {
-        self.phase = Phase::Stepping;
+        self.now.phase = Phase::Stepping;
         Ok(())
     }
 
@@ -33,33 +33,32 @@ impl<M: Model> Instance<M> {
     /// (CVODE: "root found at and very near t"); told that the states changed, it restarts, and
     /// a zero at the start of an integration is no crossing.
     pub fn new_discrete_states(&mut self) -> CallResult<EventInfo> {
-        let (known, mut x) = (self.values.known.clone(), self.states.clone());
-        let (modes_changed, states_changed) = self.settle_modes(self.time, &known, &mut x).map_err(Failure::error)?;
+        let (known, mut x) = (self.now.values.known.clone(), self.now.values.states.clone());
+        let (modes_changed, states_changed) = self.settle_modes(self.now.time, &known, &mut x).map_err(Failure::error)?;
         if states_changed {
-            self.states = x;
-            self.store_states();
+            self.now.values.states = x;
         }
         if modes_changed || states_changed {
             // Co-Simulation counted the event where its step stopped, as a step handling its
             // events itself does.
             if let (Some(counter), Interface::ModelExchange) = (self.runtime.state_events, self.interface) {
-                self.values.integers[counter.0] = self.values.integers[counter.0].saturating_add(1);
+                self.now.values.integers[counter.0] = self.now.values.integers[counter.0].saturating_add(1);
             }
             // Co-Simulation's solver goes on with the new modes (and its step size).
             if let Some(step_size) = self.integrator.as_ref().map(|i| i.step_size) {
                 self.integrator = Some(self.remade_integrator(step_size).map_err(Failure::error)?);
             }
             self.stale = true;
-            self.debug(&format!("event at t = {} s: modes or states changed", self.time));
+            self.debug(&format!("event at t = {} s: modes or states changed", self.now.time));
         }
-        let v = &self.values;
-        let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
-        let next_event_time = self.model.next_time_event(&k, self.time);
+        let v = &self.now.values;
+        let k = Knowns::new(self.now.time, &v.known, &v.states, &v.integers, &v.booleans);
+        let next_event_time = self.model.next_time_event(&k, self.now.time);
         Ok(EventInfo { next_event_time, values_changed: modes_changed || states_changed, ..EventInfo::default() })
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> CallResult {
-        self.phase = Phase::ContinuousTime;
+        self.now.phase = Phase::ContinuousTime;
         Ok(())
     }
 
@@ -67,7 +66,7 @@ impl<M: Model> Instance<M> {
         if !t.is_finite() {
             return Err(Failure::error(format!("time {t} is not finite")));
         }
-        self.time = t;
+        self.now.time = t;
         self.stale = true;
         Ok(())
     }
@@ -85,8 +84,7 @@ impl<M: Model> Instance<M> {
             let name = &self.table.variables[self.table.state_value_reference[i] as usize].name;
             return Err(Failure::error(format!("state {name} = {} is not finite", x[i])));
         }
-        self.states.copy_from_slice(x);
-        self.store_states();
+        self.now.values.states.copy_from_slice(x);
         self.stale = true;
         Ok(())
     }
@@ -94,14 +92,14 @@ impl<M: Model> Instance<M> {
     pub fn get_continuous_states(&mut self, x: &mut [f64]) -> CallResult {
         self.check_length(x.len(), "continuous states", self.table.n_states)?;
         self.refresh_only(Fresh::default());
-        x.copy_from_slice(&self.states);
+        x.copy_from_slice(&self.now.values.states);
         Ok(())
     }
 
     pub fn get_derivatives(&mut self, dx: &mut [f64]) -> CallResult {
         self.check_length(dx.len(), "derivatives", self.table.n_states)?;
         self.refresh_only(Fresh { calculated: false, derivatives: true });
-        dx.copy_from_slice(&self.values.derivatives);
+        dx.copy_from_slice(&self.now.values.derivatives);
         Ok(())
     }
 
@@ -115,8 +113,8 @@ impl<M: Model> Instance<M> {
     pub fn get_event_indicators(&mut self, z: &mut [f64]) -> CallResult {
         self.check_length(z.len(), "event indicators", self.table.indicators.len())?;
         self.refresh();
-        let v = &self.values;
-        let k = Knowns::new(self.time, &v.known, &self.states, &v.integers, &v.booleans);
+        let v = &self.now.values;
+        let k = Knowns::new(self.now.time, &v.known, &v.states, &v.integers, &v.booleans);
         z.fill(0.0);
         self.model.event_indicators(&k, &mut EventIndicators::new(z));
         Ok(())

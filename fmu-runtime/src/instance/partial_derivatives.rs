@@ -8,17 +8,17 @@ impl<M: Model> Instance<M> {
     /// near kinks; about 1e-9 relative accuracy on smooth equations). Knowns: states, inputs, parameters;
     /// unknowns: state derivatives, outputs, locals and calculated parameters.
     pub fn directional_derivative(&mut self, unknowns: &[u32], knowns: &[u32], dv_known: &[f64], dv_unknown: &mut [f64]) -> CallResult {
+        // Each seeded known: where it lives (`Slot::Known` or `Slot::State`) and its nominal.
         let mut slots = Vec::with_capacity(knowns.len());
         for vr in knowns {
             let var = self.variable(*vr, BaseType::Real)?;
-            let Slot::Known(i) = var.slot else {
+            if !matches!(var.slot, Slot::Known(_) | Slot::State(_)) {
                 return Err(Failure::error(format!("'{}' is not a known (a state, an input or a parameter)", var.name)));
-            };
-            let state = self.table.state_known_index.iter().position(|k| *k == i);
-            slots.push((i, state, var.nominal.unwrap_or(1.0).abs()));
+            }
+            slots.push((var.slot, var.nominal.unwrap_or(1.0).abs()));
         }
         // During initialization the calculated states are unknowns too, computed from the knowns.
-        let initializing = self.phase.is_before_initialization_end();
+        let initializing = self.now.phase.is_before_initialization_end();
         for vr in unknowns {
             let var = self.variable(*vr, BaseType::Real)?;
             let calculated_state = initializing && var.initial == Some(crate::variables::Initial::Calculated) && self.table.state_index(var).is_some();
@@ -30,10 +30,11 @@ impl<M: Model> Instance<M> {
             return Err(Failure::error(format!("the seed of known {} is not finite", knowns[j])));
         }
         self.refresh();
-        let (known, states) = (&self.values.known, &self.states);
-        let value = |j: usize| match slots[j].1 {
-            Some(s) => states[s],
-            None => known[slots[j].0],
+        let (known, states) = (&self.now.values.known, &self.now.values.states);
+        let value = |j: usize| match slots[j].0 {
+            Slot::State(s) => states[s],
+            Slot::Known(i) => known[i],
+            _ => unreachable!("checked above: a known"),
         };
         if dv_known.iter().all(|v| *v == 0.0) {
             dv_unknown.fill(0.0);
@@ -54,24 +55,25 @@ impl<M: Model> Instance<M> {
         // w = 0, ends on its finest).
         let h0 = (0..slots.len())
             .filter(|j| dv_known[*j] != 0.0)
-            .map(|j| 1e-7 * value(j).abs().max(slots[j].2) / dv_known[j].abs())
+            .map(|j| 1e-7 * value(j).abs().max(slots[j].1) / dv_known[j].abs())
             .fold(f64::INFINITY, f64::min);
         let central = |h: f64| {
             let at = |sign: f64| {
                 let (mut k, mut x) = (known.clone(), states.clone());
-                for (j, (i, state, _)) in slots.iter().enumerate() {
-                    match state {
-                        Some(s) => x[*s] += sign * h * dv_known[j],
-                        None => k[*i] += sign * h * dv_known[j],
+                for (j, (slot, _)) in slots.iter().enumerate() {
+                    match *slot {
+                        Slot::State(s) => x[s] += sign * h * dv_known[j],
+                        Slot::Known(i) => k[i] += sign * h * dv_known[j],
+                        _ => unreachable!("checked above: a known"),
                     }
                 }
-                let (mut der, mut calc) = (self.values.derivatives.clone(), self.values.calculated.clone());
-                let v = &self.values;
+                let (mut der, mut calc) = (self.now.values.derivatives.clone(), self.now.values.calculated.clone());
+                let v = &self.now.values;
                 if initializing {
                     // A failure leaves NaN in the calculated states, and so in the derivative.
-                    let _ = crate::model::initialize_states(&*self.model, &self.table, self.time, &k, &v.integers, &v.booleans, &mut x);
+                    let _ = crate::model::initialize_states(&*self.model, &self.table, self.now.time, &k, &v.integers, &v.booleans, &mut x);
                 }
-                evaluate(&*self.model, &self.table, self.time, &k, &x, &v.integers, &v.booleans, &mut der, &mut calc);
+                evaluate(&*self.model, &self.table, self.now.time, &k, &x, &v.integers, &v.booleans, &mut der, &mut calc);
                 (der, calc, x)
             };
             let ((der_plus, calc_plus, x_plus), (der_minus, calc_minus, x_minus)) = (at(1.0), at(-1.0));
@@ -85,10 +87,8 @@ impl<M: Model> Instance<M> {
                     match var.slot {
                         Slot::Derivative(i) => estimate(der_plus[i], der_minus[i]),
                         Slot::Calculated(i) => estimate(calc_plus[i], calc_minus[i]),
-                        _ => {
-                            let s = self.table.state_index(var).expect("checked above: a calculated state");
-                            estimate(x_plus[s], x_minus[s])
-                        }
+                        Slot::State(s) => estimate(x_plus[s], x_minus[s]),
+                        _ => unreachable!("checked above: an unknown"),
                     }
                 })
                 .collect::<Vec<(f64, f64)>>()
@@ -114,14 +114,14 @@ impl<M: Model> Instance<M> {
         // The activity and share outputs the runtime itself writes: exactly.
         if !self.table.elements.is_empty() {
             let mut d_states = vec![0.0; self.table.n_states];
-            for (j, (_, state, _)) in slots.iter().enumerate() {
-                if let Some(s) = state {
-                    d_states[*s] += dv_known[j];
+            for (j, (slot, _)) in slots.iter().enumerate() {
+                if let Slot::State(s) = *slot {
+                    d_states[s] += dv_known[j];
                 }
             }
             for (out, vr) in dv_unknown.iter_mut().zip(unknowns) {
                 if let Slot::Calculated(y) = self.table.variables[*vr as usize].slot {
-                    if let Some(d) = crate::elements::output_derivative(&self.table.elements, &self.states, &d_states, y) {
+                    if let Some(d) = crate::elements::output_derivative(&self.table.elements, &self.now.values.states, &d_states, y) {
                         *out = d;
                     }
                 }

@@ -17,15 +17,14 @@ impl<M: Model> Instance<M> {
     pub(super) fn make_integrator(&self) -> Result<Box<Integrator>, String> {
         Integrator::new(
             self.model.clone(),
-            &self.values.known,
-            &self.values.integers,
-            &self.values.booleans,
+            &self.now.values.known,
+            &self.now.values.integers,
+            &self.now.values.booleans,
             self.table.n_states,
             self.table.indicators.len(),
             self.info.solver,
             self.solver_tolerance(),
             &self.table.state_nominals(),
-            &self.table.state_known_index,
             &self.table.activity_states(),
         )
         .map(Box::new)
@@ -50,8 +49,8 @@ impl<M: Model> Instance<M> {
         if !t.is_finite() {
             return Err(Failure::error(format!("communication point {t} is not finite")));
         }
-        let tolerance = 64.0 * f64::EPSILON * self.time.abs().max(t.abs()) + 1e-6 * h;
-        if let Some(stop) = self.experiment.stop_time {
+        let tolerance = 64.0 * f64::EPSILON * self.now.time.abs().max(t.abs()) + 1e-6 * h;
+        if let Some(stop) = self.now.experiment.stop_time {
             // FMI 2.0 and 3.0: computing past a defined stop time is an error.
             if t + h > stop + tolerance {
                 return Err(Failure::error(format!(
@@ -60,15 +59,15 @@ impl<M: Model> Instance<M> {
                 )));
             }
         }
-        if (t - self.time).abs() > tolerance {
+        if (t - self.now.time).abs() > tolerance {
             return Err(Failure::error(format!(
                 "communication point {t} s does not match this instance's time {} s (restore a saved FMU state to go back)",
-                self.time
+                self.now.time
             )));
         }
         let t_end = t + h;
         let mut x = std::mem::take(&mut self.buffers.x);
-        x.clone_from(&self.states);
+        x.clone_from(&self.now.values.states);
         let mut slopes = std::mem::take(&mut self.buffers.slopes);
         if self.has_inputs {
             self.extrapolated_slopes(t, &mut slopes);
@@ -77,7 +76,7 @@ impl<M: Model> Instance<M> {
             Ok(event) => event,
             Err(message) => {
                 (self.buffers.x, self.buffers.slopes) = (x, slopes);
-                self.phase = Phase::StepFailed;
+                self.now.phase = Phase::StepFailed;
                 return Err(Failure {
                     status: Status::Discard,
                     message: format!("step from {t} s to {t_end} s discarded, the instance stays at {t} s: {message}"),
@@ -90,31 +89,30 @@ impl<M: Model> Instance<M> {
             _ => (t_end, h),
         };
         if self.has_inputs {
-            match &mut self.previous_inputs {
+            match &mut self.now.previous_inputs {
                 Some((t_prev, previous)) => {
                     *t_prev = t;
-                    previous.clone_from(&self.values.known);
+                    previous.clone_from(&self.now.values.known);
                 }
-                None => self.previous_inputs = Some((t, self.values.known.clone())),
+                None => self.now.previous_inputs = Some((t, self.now.values.known.clone())),
             }
             // At the end of the step the inputs are where their motion took them, so outputs
             // that depend on inputs directly (a shaft's torque) are those of t_end, not of t.
-            for (i, (slope, curvature)) in slopes.iter().zip(&self.input_curvatures).enumerate() {
+            for (i, (slope, curvature)) in slopes.iter().zip(&self.now.input_curvatures).enumerate() {
                 // Only moving inputs are written: `+= 0.0` would turn an input's -0.0 into +0.0.
                 if *slope != 0.0 || *curvature != 0.0 {
-                    self.values.known[i] += slope * tau + 0.5 * curvature * tau * tau;
+                    self.now.values.known[i] += slope * tau + 0.5 * curvature * tau * tau;
                     self.knowns_set = true;
                 }
             }
             // Input derivatives describe one step; the master sets new values (and derivatives)
             // at the next communication point.
-            self.input_slopes.fill(0.0);
-            self.input_curvatures.fill(0.0);
+            self.now.input_slopes.fill(0.0);
+            self.now.input_curvatures.fill(0.0);
         }
-        std::mem::swap(&mut self.states, &mut x);
+        std::mem::swap(&mut self.now.values.states, &mut x);
         (self.buffers.x, self.buffers.slopes) = (x, slopes);
-        self.time = reached;
-        self.store_states();
+        self.now.time = reached;
         self.stale = true;
         if event.is_some() {
             // Should the master step on without handling the event, the next step settles the
@@ -128,14 +126,14 @@ impl<M: Model> Instance<M> {
     /// with `extrapolate_inputs` on, the line through the previous and the current communication
     /// point for the other inputs.
     pub(super) fn extrapolated_slopes(&self, t: f64, slopes: &mut Vec<f64>) {
-        slopes.clone_from(&self.input_slopes);
-        let on = self.runtime.extrapolate_inputs.is_some_and(|b| self.values.booleans[b.index()]);
-        if let (true, Some((t_prev, previous))) = (on, &self.previous_inputs) {
+        slopes.clone_from(&self.now.input_slopes);
+        let on = self.runtime.extrapolate_inputs.is_some_and(|b| self.now.values.booleans[b.index()]);
+        if let (true, Some((t_prev, previous))) = (on, &self.now.previous_inputs) {
             if t > *t_prev {
                 for var in self.table.variables.iter().filter(|v| v.causality == crate::variables::Causality::Input) {
                     if let Slot::Known(i) = var.slot {
-                        if self.input_slopes[i] == 0.0 && self.input_curvatures[i] == 0.0 {
-                            slopes[i] = (self.values.known[i] - previous[i]) / (t - t_prev);
+                        if self.now.input_slopes[i] == 0.0 && self.now.input_curvatures[i] == 0.0 {
+                            slopes[i] = (self.now.values.known[i] - previous[i]) / (t - t_prev);
                         }
                     }
                 }
@@ -154,13 +152,13 @@ impl<M: Model> Instance<M> {
         // Without modes, no integer changes in a step.
         let mut modes = std::mem::take(&mut self.buffers.modes);
         if self.has_modes {
-            modes.clone_from(&self.values.integers);
+            modes.clone_from(&self.now.values.integers);
         }
-        let curvatures = std::mem::take(&mut self.input_curvatures);
+        let curvatures = std::mem::take(&mut self.now.input_curvatures);
         let mut result = self.integrate_with(&mut integrator, t, x, t_end, slopes, &curvatures);
-        self.input_curvatures = curvatures;
-        if result.is_err() && self.has_modes && self.values.integers != modes {
-            self.values.integers.copy_from_slice(&modes);
+        self.now.input_curvatures = curvatures;
+        if result.is_err() && self.has_modes && self.now.values.integers != modes {
+            self.now.values.integers.copy_from_slice(&modes);
             match self.remade_integrator(step_size) {
                 Ok(made) => integrator = made,
                 Err(message) => result = Err(message),
@@ -176,9 +174,9 @@ impl<M: Model> Instance<M> {
         // (a force above the static friction breaks a stuck body loose) without any indicator
         // crossing zero during integration. When nothing was set since the last step, the modes
         // are those the last step left consistent (it stopped at every crossing up to here).
-        let known = std::mem::take(&mut self.values.known);
+        let known = std::mem::take(&mut self.now.values.known);
         let settled = if self.has_modes && self.knowns_set { self.settle_modes(t, &known, x) } else { Ok((false, false)) };
-        self.values.known = known;
+        self.now.values.known = known;
         if settled?.0 {
             *integrator = *self.remade_integrator(integrator.step_size)?;
         }
@@ -189,7 +187,7 @@ impl<M: Model> Instance<M> {
         // Without inputs nothing moves (the slopes are zero): no need to look.
         let motion = if self.has_inputs { InputMotion::new(slopes, curvatures, t) } else { InputMotion::still(slopes) };
         for _ in 0..MAX_EVENTS_PER_STEP {
-            let v = &self.values;
+            let v = &self.now.values;
             let k = Knowns::new(now, &v.known, x, &v.integers, &v.booleans);
             // An event within rounding of the step's end is taken as the end (a master's
             // float time 9.999999999999897 s for an event at 10 s).
@@ -206,7 +204,7 @@ impl<M: Model> Instance<M> {
                 Some(_) => next,
                 None => f64::INFINITY,
             };
-            let limit = self.experiment.stop_time.map_or(limit, |stop| limit.min(stop)).max(next);
+            let limit = self.now.experiment.stop_time.map_or(limit, |stop| limit.min(stop)).max(next);
             let knowns_set = std::mem::replace(&mut self.knowns_set, false);
             let how = integrator.advance(&v.known, &motion, knowns_set, now, x, next, limit, &mut budget)?;
             match how {
@@ -238,7 +236,7 @@ impl<M: Model> Instance<M> {
                     last_event = time;
                     self.logger.log(Status::Ok, &format!("state event at t = {time} s: '{}' crossed zero", self.table.indicators[indicator].0));
                     if let Some(counter) = self.runtime.state_events {
-                        self.values.integers[counter.0] = self.values.integers[counter.0].saturating_add(1);
+                        self.now.values.integers[counter.0] = self.now.values.integers[counter.0].saturating_add(1);
                     }
                     if self.stops_at_events {
                         return Ok(Some(time));
@@ -260,8 +258,8 @@ impl<M: Model> Instance<M> {
     /// The known reals at `now` with the inputs moved along their derivatives since `since`.
     pub(super) fn knowns_moved_to(&self, now: f64, since: f64, slopes: &[f64], curvatures: &[f64]) -> Vec<f64> {
         let tau = now - since;
-        (0..self.values.known.len())
-            .map(|i| self.values.known[i] + slopes[i] * tau + 0.5 * curvatures[i] * tau * tau)
+        (0..self.now.values.known.len())
+            .map(|i| self.now.values.known[i] + slopes[i] * tau + 0.5 * curvatures[i] * tau * tau)
             .collect()
     }
 }

@@ -116,7 +116,7 @@ fn model_exchange_hands_the_states_to_the_master() {
     i.get_continuous_states(&mut x).unwrap();
     assert_eq!(x, [1.0], "the start value");
     i.exit_initialization_mode().unwrap();
-    assert_eq!(i.phase, Phase::Event);
+    assert_eq!(i.phase(), Phase::Event);
     assert_eq!(i.new_discrete_states().unwrap().next_event_time, None);
     i.enter_continuous_time_mode().unwrap();
     i.set_time(0.5).unwrap();
@@ -127,6 +127,32 @@ fn model_exchange_hands_the_states_to_the_master() {
     assert_eq!(get(&mut i, 2), 3.0, "the state variable follows fmi2SetContinuousStates");
     assert!(i.set_continuous_states(&[1.0, 2.0]).is_err());
     assert!(i.set_continuous_states(&[f64::NAN]).is_err());
+}
+
+#[test]
+fn a_state_s_value_reference_reads_and_sets_the_state_vector_itself() {
+    // Decay's x (vr 2): one home for its value, whichever way it is reached.
+    let mut i = Instance::<Decay>::for_interface(Interface::ModelExchange, "{test}", Logger::silent());
+    i.setup_experiment(None, 0.0, None).unwrap();
+    i.enter_initialization_mode().unwrap();
+    i.set(&[2], &[4.0]).unwrap();
+    let mut x = [0.0];
+    i.get_continuous_states(&mut x).unwrap();
+    assert_eq!(x, [4.0], "a start value set by value reference is the state");
+    i.exit_initialization_mode().unwrap();
+    assert!(i.set(&[2], &[5.0]).is_err(), "a state is not settable after initialization");
+    i.enter_continuous_time_mode().unwrap();
+    i.set_continuous_states(&[-0.5]).unwrap();
+    assert_eq!(get(&mut i, 2).to_bits(), (-0.5f64).to_bits());
+    assert_eq!(get(&mut i, 4), -1.0, "and the equations read it: y = 2 x");
+    // Co-Simulation: after each step the value reference reads the state the solver reached.
+    let mut c = initialized();
+    for n in 0..10 {
+        c.do_step(n as f64 * 0.1, 0.1).unwrap();
+        let mut x = [0.0];
+        c.get_continuous_states(&mut x).unwrap();
+        assert_eq!(get(&mut c, 2).to_bits(), x[0].to_bits(), "after the step to {} s", (n + 1) as f64 * 0.1);
+    }
 }
 
 #[test]
@@ -447,9 +473,9 @@ fn step_twice<M: Model>(a: &mut Instance<M>, twin: &mut Instance<M>, t: &mut f64
     a.do_step(*t, h).unwrap();
     twin.do_step(*t, h).unwrap();
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&a.states), bits(&twin.states), "states after the step from {t}");
-    assert_eq!(bits(&a.values.known), bits(&twin.values.known), "knowns after the step from {t}");
-    assert_eq!(a.values.integers, twin.values.integers, "modes after the step from {t}");
+    assert_eq!(bits(&a.now.values.states), bits(&twin.now.values.states), "states after the step from {t}");
+    assert_eq!(bits(&a.now.values.known), bits(&twin.now.values.known), "knowns after the step from {t}");
+    assert_eq!(a.now.values.integers, twin.now.values.integers, "modes after the step from {t}");
     let step_size = |i: &Instance<M>| i.integrator.as_ref().and_then(|g| g.step_size).map(f64::to_bits);
     assert_eq!(step_size(a), step_size(twin), "step size after the step from {t}");
     *t += h;
@@ -531,7 +557,7 @@ fn reset_returns_to_the_start_values() {
     let mut i = initialized();
     i.do_step(0.0, 0.5).unwrap();
     i.reset().unwrap();
-    assert_eq!(i.phase, Phase::Instantiated);
+    assert_eq!(i.phase(), Phase::Instantiated);
     i.enter_initialization_mode().unwrap();
     assert_eq!(get(&mut i, 2), 1.0);
 }
@@ -579,7 +605,7 @@ fn a_calculated_state_without_a_finite_value_fails_initialization_by_name() {
     i.set(&[1], &[0.0]).unwrap(); // g = 0: no steady state (p/0)
     let e = i.exit_initialization_mode().unwrap_err();
     assert!(e.message.contains("'T'") && e.message.contains("initial value"), "{}", e.message);
-    assert_eq!(i.phase, Phase::Error);
+    assert_eq!(i.phase(), Phase::Error);
 }
 
 /// A Block whose master handles its events (FMI 3.0 Co-Simulation with eventModeUsed and
@@ -590,7 +616,7 @@ fn block_handing_events_to_master() -> Instance<crate::test_model::Block> {
     i.setup_experiment(Some(1e-8), 0.0, None).unwrap();
     i.enter_initialization_mode().unwrap();
     i.exit_initialization_mode().unwrap();
-    assert_eq!(i.phase, Phase::Event, "eventModeUsed: initialization ends in event mode");
+    assert_eq!(i.phase(), Phase::Event, "eventModeUsed: initialization ends in event mode");
     i.new_discrete_states().unwrap();
     i.enter_step_mode().unwrap();
     i
@@ -662,5 +688,5 @@ fn without_early_return_or_event_mode_the_step_handles_its_events() {
     let mut i = block(Interface::CoSimulation);
     let refused = i.enter_event_mode().unwrap_err();
     assert!(refused.message.contains("eventModeUsed = false"), "{}", refused.message);
-    assert_eq!(i.phase, Phase::Stepping);
+    assert_eq!(i.phase(), Phase::Stepping);
 }
