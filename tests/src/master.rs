@@ -1,4 +1,5 @@
-//! A small co-simulation master for FMI 2.0 Co-Simulation FMUs.
+//! A small co-simulation master for Co-Simulation FMUs, FMI 2.0 and FMI 3.0 (through
+//! [`crate::Instance`], which calls either version; the function names below are FMI 2.0's).
 //!
 //! A [`System`] lists named FMU instances ([`Component`]: an FMU, an instance name and start
 //! values by variable name) and [`Connection`]s from outputs to inputs (`"instance.variable"`,
@@ -12,13 +13,14 @@
 //!   outputs of those before it);
 //! - input extrapolation (on by default where the FMUs declare `canInterpolateInputs` and
 //!   `maxOutputDerivativeOrder >= 1`): first-order, from `fmi2GetRealOutputDerivatives` to
-//!   `fmi2SetRealInputDerivatives`; Gauss-Seidel interpolates fresh outputs instead;
+//!   `fmi2SetRealInputDerivatives` (FMI 2.0 only: FMI 3.0 has no input derivatives, its inputs
+//!   are held); Gauss-Seidel interpolates fresh outputs instead;
 //! - optional step rejection ([`ErrorControl`]): FMU states saved before each macro step,
 //!   restored and the step halved when the coupling error estimate exceeds the tolerance;
 //! - recording: a [`ResultTable`] of chosen variables at every communication point, and
 //!   [`Stats`] (accepted and rejected steps, ...).
 //!
-//! Every FMU failure is a [`MasterError`] naming the instance and the fmi2 call, with the
+//! Every FMU failure is a [`MasterError`] naming the instance and the call (fmi2 or fmi3), with the
 //! FMU's last log messages; nothing panics on an FMU error.
 //!
 //! Modules: [`system`] (what is coupled), [`declaration`] (a system declared in

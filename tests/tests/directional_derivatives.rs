@@ -1,5 +1,9 @@
-//! `fmi2GetDirectionalDerivative` of every FMU in dist/, checked against central finite
-//! differences that this test computes itself through the ordinary FMI calls.
+//! `fmi2GetDirectionalDerivative` of every FMU in dist/ and `fmi3GetDirectionalDerivative` of
+//! every FMU in dist/fmi3/, checked against central finite differences that this test computes
+//! itself through the ordinary FMI calls (the fmi2 calls named below, or their FMI 3.0
+//! counterparts: fmi3SetTime, fmi3SetContinuousStates, fmi3SetFloat64, fmi3GetFloat64, ...).
+//! Both versions by default; `FMI_VERSIONS=2` or `=3` restricts. The same checks and tolerances
+//! for both.
 //!
 //! FMI 2.0.4, 2.1.9: with v_unknown = h(v_known, v_rest), the FMU returns
 //! dv_unknown = (dh/dv_known) dv_known. After initialization the unknowns are the state
@@ -50,6 +54,13 @@
 //! below h/10^4), there is no reference: such entries are counted and the first ones printed
 //! ("without reference"), not judged.
 //!
+//! FMI 3.0 only: `fmi3GetAdjointDerivative` (sensitivity = seed^T J) at every operating point
+//! after initialization, in both instances, with all unknowns seeded (seed_i = c_i / S_i, the
+//! c_i alternating in sign and size) and all knowns asked: each sensitivity must equal
+//! sum_i seed_i J_ij computed here from the directional-derivative columns (which are checked
+//! against the finite differences above), to 1e-12 of sum_i |seed_i J_ij| (rounding of the sum)
+//! or, if that is 0, of sum_i |seed_i| S_i / s_j.
+//!
 //! The worst error of each FMU, interface and configuration is printed to stderr directly (not
 //! through the captured `eprintln!`), so it shows in every `cargo test` run.
 //!
@@ -60,10 +71,10 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use fmi_host::dist::{dist_dir, every_fmu_path};
+use fmi_host::dist::{dist_dir_for, every_fmu_path_for, versions};
 use fmi_host::ffi::EventInfo;
 use fmi_host::{
-    Causality, Fmi2Type, Fmu, Initial, Instance, InstantiateOptions, Status, ValueReference,
+    Causality, Fmi2Type, FmiVersion, Fmu, Initial, Instance, InstantiateOptions, Status, ValueReference,
     Variability, VariableType,
 };
 use quick_xml::events::Event;
@@ -79,6 +90,9 @@ const KINK: f64 = 1e-3;
 /// A central difference is converged when the next smaller step changes it by less than this
 /// (relative to the entry's scale).
 const CONVERGED: f64 = 1e-7;
+/// fmi3GetAdjointDerivative against seed^T J from the directional derivatives: rounding of the
+/// sum only (see the module documentation).
+const ADJOINT_TOL: f64 = 1e-12;
 
 /// Writes to the process's stderr, bypassing the test harness's output capture.
 fn report(text: &str) {
@@ -95,8 +109,9 @@ struct Structure {
     me_present: bool,
     me_provides_dd: bool,
     me_model_identifier: Option<String>,
-    /// 1-based indices of ModelStructure/Derivatives/Unknown, in document order: the order of
-    /// the continuous-state vector (FMI 2.0.4, 2.2.8).
+    /// 1-based indices of ModelStructure/Derivatives/Unknown (FMI 3.0:
+    /// ModelStructure/ContinuousStateDerivative, by value reference), in document order: the
+    /// order of the continuous-state vector (FMI 2.0.4, 2.2.8; FMI 3.0, 2.4.8).
     derivative_indices: Vec<usize>,
 }
 
@@ -132,19 +147,29 @@ fn read_structure(fmu: &Fmu) -> Structure {
             attrs.insert(a.key.as_ref().to_owned(), value);
         }
         let flag = |k: &str| matches!(attrs.get(k).map(|v| v.trim()), Some("true" | "1"));
+        // FMI 3.0 spells it providesDirectionalDerivatives.
+        let provides_dd = flag("providesDirectionalDerivative") || flag("providesDirectionalDerivatives");
         let parent = stack.last().map(String::as_str);
         match (parent, name.as_str()) {
             (Some("fmiModelDescription"), "CoSimulation") => {
-                s.cs_provides_dd = flag("providesDirectionalDerivative")
+                s.cs_provides_dd = provides_dd
             }
             (Some("fmiModelDescription"), "ModelExchange") => {
                 s.me_present = true;
-                s.me_provides_dd = flag("providesDirectionalDerivative");
+                s.me_provides_dd = provides_dd;
                 s.me_model_identifier = attrs.get("modelIdentifier").cloned();
             }
             (Some("Derivatives"), "Unknown") => s.derivative_indices.push(
                 attrs["index"].trim().parse().expect("Derivatives/Unknown index"),
             ),
+            (Some("ModelStructure"), "ContinuousStateDerivative") => {
+                let vr: ValueReference = attrs["valueReference"].trim().parse().expect("ContinuousStateDerivative valueReference");
+                let variables = &fmu.model_description().model_variables;
+                let i = variables.iter().position(|v| v.value_reference == vr).unwrap_or_else(|| {
+                    panic!("ContinuousStateDerivative valueReference {vr} is no variable's")
+                });
+                s.derivative_indices.push(i + 1);
+            }
             _ => {}
         }
         if !empty {
@@ -167,7 +192,9 @@ struct Var {
 
 struct Model {
     fmu: Arc<Fmu>,
+    /// "<model name> (FMI x.0)".
     name: String,
+    version: FmiVersion,
     structure: Structure,
     /// Continuous states, in the order of the state vector.
     states: Vec<Var>,
@@ -228,7 +255,8 @@ impl Model {
         let exact_states = pick(&|v| state_vrs.contains(&v.value_reference) && v.initial == Some(Initial::Exact));
         let e = md.default_experiment.expect("every FMU has a DefaultExperiment");
         Model {
-            name: md.model_name.clone(),
+            name: format!("{} ({})", md.model_name, fmu.fmi_version()),
+            version: fmu.fmi_version(),
             states,
             derivatives,
             inputs,
@@ -280,6 +308,7 @@ fn get(inst: &mut Instance, vr: &[ValueReference], what: &str) -> Vec<f64> {
 }
 
 fn instantiate(model: &Model, fmu_type: Fmi2Type, config: &Config, label: &str) -> Instance {
+    let label = format!("{label} {}", model.version);
     let mut inst = Instance::new(&model.fmu, InstantiateOptions::new(label).fmu_type(fmu_type))
         .unwrap_or_else(|e| panic!("{}: fmi2Instantiate({fmu_type:?}): {e}", model.name));
     let stop = config.stop.unwrap_or(model.stop);
@@ -624,6 +653,8 @@ fn check_after_initialization(model: &Model, config: &Config) -> (String, Vec<St
     let mut next_event = me_event_iteration(&mut me);
 
     let (mut t_cs, mut t_me) = (Tally::default(), Tally::default());
+    // fmi3GetAdjointDerivative: (sensitivities checked, worst error) per instance.
+    let (mut a_cs, mut a_me) = ((0usize, 0.0f64), (0usize, 0.0f64));
     let mut done = 0;
     for &k in &points {
         for j in done..k {
@@ -736,14 +767,81 @@ fn check_after_initialization(model: &Model, config: &Config) -> (String, Vec<St
             t_me.column(&at, "all knowns at once", &unknowns, &natural_sum, 1.0, &dd, &fd);
             let dd = dd_column(&mut cs, &u_vr, &known_vr, &seeds, "all knowns");
             t_cs.column(&format!("{at} [ME finite differences]"), "all knowns at once", &unknowns, &natural_sum, 1.0, &dd, &fd);
+            if model.version == FmiVersion::Fmi3 {
+                let scale_k: Vec<f64> = knowns.iter().map(|(k, x0, _)| known_scale(k, *x0).0).collect();
+                for (inst, tally, what) in [(&mut me, &mut a_me, "ME"), (&mut cs, &mut a_cs, "CS")] {
+                    failures.extend(check_adjoint(inst, tally, &u_vr, &known_vr, &scale, &scale_k, &format!("{} {at} {what}", model.name)));
+                }
+            }
         }
     }
     let head = format!("{} [{}], {} points", model.name, config.label, points.len());
     text += &t_cs.line(&format!("{head}, Co-Simulation"));
     text += &t_me.line(&format!("{head}, Model Exchange"));
+    if model.version == FmiVersion::Fmi3 {
+        text += &format!(
+            "  {:<58} {:>5} sensitivities, worst {:.2e} (CS), {:>5}, worst {:.2e} (ME) of sum |seed_i J_ij|\n",
+            format!("{head}, fmi3GetAdjointDerivative vs seed^T J"),
+            a_cs.0,
+            a_cs.1,
+            a_me.0,
+            a_me.1
+        );
+    }
     failures.extend(t_cs.first_failures(&format!("{} [{}] CS", model.name, config.label)));
     failures.extend(t_me.first_failures(&format!("{} [{}] ME", model.name, config.label)));
     (text, failures)
+}
+
+/// fmi3GetAdjointDerivative with every unknown seeded and every known asked, against
+/// seed^T J built here from the instance's own directional-derivative columns (one known at a
+/// time, seed 1), which the caller has just checked against finite differences. Returns the
+/// failures; `tally` counts the sensitivities and keeps the worst relative error.
+fn check_adjoint(
+    inst: &mut Instance,
+    tally: &mut (usize, f64),
+    unknowns: &[ValueReference],
+    knowns: &[ValueReference],
+    scale_u: &[f64],
+    scale_k: &[f64],
+    at: &str,
+) -> Vec<String> {
+    // Seeds of the size 1 / (the unknown's scale), alternating in sign and varied in size, so
+    // that every unknown weighs alike and no two can cancel.
+    let seed: Vec<f64> = (0..unknowns.len())
+        .map(|i| (1.0 + 0.29 * i as f64) * if i % 2 == 0 { 1.0 } else { -1.0 } / scale_u[i])
+        .collect();
+    let mut expected = vec![0.0; knowns.len()];
+    let mut magnitude = vec![0.0; knowns.len()];
+    for (j, k) in knowns.iter().enumerate() {
+        let column = dd_column(inst, unknowns, &[*k], &[1.0], "adjoint reference");
+        for i in 0..unknowns.len() {
+            expected[j] += seed[i] * column[i];
+            magnitude[j] += (seed[i] * column[i]).abs();
+        }
+    }
+    let mut sensitivity = vec![f64::NAN; knowns.len()];
+    let status = inst
+        .get_adjoint_derivative(unknowns, knowns, &seed, &mut sensitivity)
+        .expect("an FMI 3.0 instance has fmi3GetAdjointDerivative");
+    ok(status, "fmi3GetAdjointDerivative", inst);
+    let mut failures = Vec::new();
+    for j in 0..knowns.len() {
+        // Where seed^T J_j is 0 term by term, the natural size of a sensitivity instead.
+        let natural: f64 = seed.iter().zip(scale_u).map(|(w, s)| w.abs() * s).sum::<f64>() / scale_k[j];
+        let denom = if magnitude[j] > 0.0 { magnitude[j] } else { natural };
+        let err = ratio((sensitivity[j] - expected[j]).abs(), denom);
+        let err = if sensitivity[j].is_finite() { err } else { f64::INFINITY };
+        tally.0 += 1;
+        tally.1 = tally.1.max(err);
+        if err > ADJOINT_TOL {
+            failures.push(format!(
+                "{at}: fmi3GetAdjointDerivative for known vr {} is {:.15e}, seed^T J from the directional derivatives {:.15e} (error {err:.3e} of {denom:.3e})",
+                knowns[j], sensitivity[j], expected[j]
+            ));
+        }
+    }
+    failures
 }
 
 // ---- Initialization Mode: parameters, state start values and inputs are knowns -------------
@@ -793,10 +891,15 @@ fn default_config() -> Config {
     Config { label: "default experiment".into(), ..Config::default() }
 }
 
+/// The FMUs of every FMI version tested (`FMI_VERSIONS`; FMI 2.0's first).
+fn every_fmu_path_of_every_version() -> Vec<PathBuf> {
+    versions().into_iter().flat_map(every_fmu_path_for).collect()
+}
+
 #[test]
 fn directional_derivatives_match_finite_differences_after_initialization() {
     let (mut text, mut failures) = (String::new(), Vec::new());
-    for path in every_fmu_path() {
+    for path in every_fmu_path_of_every_version() {
         let model = Model::load(&path);
         let (t, f) = check_after_initialization(&model, &default_config());
         text += &t;
@@ -808,7 +911,7 @@ fn directional_derivatives_match_finite_differences_after_initialization() {
 #[test]
 fn directional_derivatives_match_finite_differences_in_initialization_mode() {
     let (mut text, mut failures) = (String::new(), Vec::new());
-    for path in every_fmu_path() {
+    for path in every_fmu_path_of_every_version() {
         let model = Model::load(&path);
         let config = default_config();
         let (range, _) = cs_ranges(&model, &config);
@@ -829,12 +932,24 @@ fn directional_derivatives_match_finite_differences_in_initialization_mode() {
 /// level with every start mode, the set-point filters and the rigid shaft, over 15 s.
 #[test]
 fn motor_fan_directional_derivatives_at_every_level_and_start_mode() {
-    let path = dist_dir().join("MotorFan.fmu");
-    if !path.is_file() {
-        report("\nMotorFan.fmu is not in dist/: skipped\n");
-        return;
+    let (mut text, mut failures) = (String::new(), Vec::new());
+    for version in versions() {
+        let path = dist_dir_for(version).join("MotorFan.fmu");
+        if !path.is_file() {
+            report(&format!("\nMotorFan.fmu is not in {:?}: {version} skipped\n", dist_dir_for(version)));
+            continue;
+        }
+        let model = Model::load(&path);
+        for config in &motor_fan_configs() {
+            let (t, f) = check_after_initialization(&model, config);
+            text += &t;
+            failures.extend(f);
+        }
     }
-    let model = Model::load(&path);
+    finish("MotorFan: directional derivatives vs central differences, every level and start mode (0-15 s)", text, failures);
+}
+
+fn motor_fan_configs() -> Vec<Config> {
     let mut configs = Vec::new();
     for level in 1..=4 {
         for start_mode in 1..=3 {
@@ -860,11 +975,5 @@ fn motor_fan_directional_derivatives_at_every_level_and_start_mode() {
         booleans: vec![("keep_shaft_stiffness", false)],
         stop: Some(15.0),
     });
-    let (mut text, mut failures) = (String::new(), Vec::new());
-    for config in &configs {
-        let (t, f) = check_after_initialization(&model, config);
-        text += &t;
-        failures.extend(f);
-    }
-    finish("MotorFan: directional derivatives vs central differences, every level and start mode (0-15 s)", text, failures);
+    configs
 }

@@ -1,12 +1,17 @@
-//! Every dist/*.fmu through the strict Model Exchange master (`fmi_host::model_exchange`) at
-//! relative tolerances 1e-4, 1e-6 and 1e-8, over its DefaultExperiment (and MotorFan in the
-//! configurations of tests/python/test_model_exchange.py), compared with its Co-Simulation run
-//! at the same tolerance.
+//! Every dist/*.fmu (FMI 2.0) and dist/fmi3/*.fmu (FMI 3.0) through the strict Model Exchange
+//! master (`fmi_host::model_exchange`) at relative tolerances 1e-4, 1e-6 and 1e-8, over its
+//! DefaultExperiment (and MotorFan in the configurations of tests/python/test_model_exchange.py),
+//! compared with its Co-Simulation run (same FMU, same FMI version) at the same tolerance. The
+//! same bounds hold for both versions. `FMI_VERSIONS` restricts the versions (default `2,3`).
 //!
-//! The master re-initializes its integrator only when fmi2NewDiscreteStates reports
-//! valuesOfContinuousStatesChanged (or nominals changed), and fails as CVODE does ("Root found at
-//! and very near t") when an event indicator is exactly zero right after an event it was not
-//! told to re-initialize for. fmpy's ME loop re-initializes after every event and cannot see that.
+//! The master re-initializes its integrator only when fmi2NewDiscreteStates
+//! (fmi3UpdateDiscreteStates) reports valuesOfContinuousStatesChanged (or nominals changed), and
+//! fails as CVODE does ("Root found at and very near t") when an event indicator is exactly zero
+//! right after an event it was not told to re-initialize for. fmpy's ME loop re-initializes
+//! after every event and cannot see that. Through FMI 3.0 the master makes the same calls:
+//! fmi3EnterEventMode, fmi3UpdateDiscreteStates, fmi3EnterContinuousTimeMode,
+//! fmi3CompletedIntegratorStep, fmi3SetTime, fmi3SetContinuousStates,
+//! fmi3GetContinuousStateDerivatives, fmi3GetEventIndicators (the host's `Instance` maps them).
 //!
 //! The agreement bound, per Real output y and tolerance rtol:
 //!
@@ -55,11 +60,11 @@
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
-use fmi_host::dist::every_fmu;
+use fmi_host::dist::{every_fmu_for, versions};
 use fmi_host::model_exchange::{
     real_outputs, run_fmu_co_simulation, run_fmu_strict, EventKind, MeExperiment, MeResult,
 };
-use fmi_host::{Fmu, ValueReference};
+use fmi_host::{FmiVersion, Fmu, ValueReference};
 
 const TOLERANCES: [f64; 3] = [1e-4, 1e-6, 1e-8];
 /// See the module comment.
@@ -83,7 +88,16 @@ struct Case {
 
 fn cases() -> Vec<Case> {
     let mut cases = Vec::new();
-    for fmu in every_fmu() {
+    for version in versions() {
+        cases.extend(cases_of(version));
+    }
+    cases
+}
+
+/// The cases of one FMI version (labels "<model> <version> <configuration>").
+fn cases_of(version: FmiVersion) -> Vec<Case> {
+    let mut cases = Vec::new();
+    for fmu in every_fmu_for(version) {
         let md = fmu.model_description();
         let de = md.default_experiment.clone().expect("every FMU has a DefaultExperiment");
         let start = de.start_time.unwrap_or(0.0);
@@ -91,7 +105,7 @@ fn cases() -> Vec<Case> {
         for rtol in TOLERANCES {
             cases.push(Case {
                 fmu: Arc::clone(&fmu),
-                label: format!("{} default", md.model_name),
+                label: format!("{} {version} default", md.model_name),
                 exp: MeExperiment { start, stop, output_interval: step, rtol },
                 start_values: &[],
             });
@@ -99,7 +113,7 @@ fn cases() -> Vec<Case> {
                 for (name, sv) in MOTOR_FAN_CONFIGURATIONS {
                     cases.push(Case {
                         fmu: Arc::clone(&fmu),
-                        label: format!("MotorFan {name}"),
+                        label: format!("MotorFan {version} {name}"),
                         exp: MeExperiment { start, stop: MOTOR_FAN_STOP_TIME, output_interval: step, rtol },
                         start_values: sv,
                     });
@@ -107,7 +121,10 @@ fn cases() -> Vec<Case> {
             }
         }
     }
-    assert!(cases.iter().any(|c| c.label.starts_with("MotorFan ")), "dist/MotorFan.fmu is missing");
+    assert!(
+        cases.iter().any(|c| c.label.starts_with("MotorFan ") && !c.label.ends_with(" default")),
+        "MotorFan.fmu ({version}) is missing"
+    );
     cases
 }
 
@@ -155,7 +172,7 @@ fn run_case(case: &Case) -> Outcome {
                 seconds_me,
                 seconds_cs,
                 table,
-                event_row: format!("{:<40} {:>6.0e}  ME FAILED: {e}", case.label, exp.rtol),
+                event_row: format!("{:<48} {:>6.0e}  ME FAILED: {e}", case.label, exp.rtol),
                 failures,
             };
         }
@@ -257,7 +274,7 @@ fn run_case(case: &Case) -> Outcome {
         }
     }
     let event_row = format!(
-        "{:<40} {:>6.0e} {:>6} {:>5} {:>5} {:>6} {:>8} {:>8}  ME {}  CS (interval ends) {}",
+        "{:<48} {:>6.0e} {:>6} {:>5} {:>5} {:>6} {:>8} {:>8}  ME {}  CS (interval ends) {}",
         case.label,
         exp.rtol,
         me_state.len(),
@@ -438,7 +455,7 @@ fn every_fmu_passes_the_strict_model_exchange_master_and_agrees_with_co_simulati
     let mut text = vec![
         "== Strict ME master vs CS: events".to_string(),
         format!(
-            "{:<40} {:>6} {:>6} {:>5} {:>5} {:>6} {:>8} {:>8}  state event times",
+            "{:<48} {:>6} {:>6} {:>5} {:>5} {:>6} {:>8} {:>8}  state event times",
             "case", "rtol", "state", "time", "step", "reinit", "ME count", "CS count"
         ),
     ];
@@ -467,27 +484,30 @@ fn every_fmu_passes_the_strict_model_exchange_master_and_agrees_with_co_simulati
 /// A strict master (CVODE without a re-initialization) stops there with "Root found at and very
 /// near t"; a correct FMU gives the indicator its sign (or reports the re-initialization). The
 /// detection itself is unit-tested on a Rust friction model in `fmi_host::model_exchange`.
+/// Through FMI 2.0 and FMI 3.0 (`FMI_VERSIONS`).
 #[test]
 fn shaft_line_breaks_loose_under_the_strict_master() {
-    let Some(fmu) = every_fmu().into_iter().find(|f| f.model_description().model_name == "ShaftLine") else {
-        panic!("dist/ShaftLine.fmu is missing");
-    };
-    let (_, vrs) = real_outputs(&fmu);
     let mut failures = Vec::new();
-    for rtol in TOLERANCES {
-        let exp = MeExperiment { start: 0.0, stop: 0.8, output_interval: 0.01, rtol };
-        let run = run_fmu_strict(&fmu, exp, &[], &vrs);
-        match run.result {
-            Ok(r) => {
-                let times: Vec<(f64, bool)> = r.events.iter().map(|e| (e.time, e.reinitialized)).collect();
-                println!("ShaftLine 0..0.8 s rtol {rtol:.0e}: events (t, reinitialized) {times:?}");
-                if !r.events.iter().any(|e| (0.7..0.8).contains(&e.time)) {
-                    failures.push(format!("rtol {rtol:.0e}: no event at the breakaway (0.7..0.8 s): {times:?}"));
+    for version in versions() {
+        let Some(fmu) = every_fmu_for(version).into_iter().find(|f| f.model_description().model_name == "ShaftLine") else {
+            panic!("ShaftLine.fmu ({version}) is missing");
+        };
+        let (_, vrs) = real_outputs(&fmu);
+        for rtol in TOLERANCES {
+            let exp = MeExperiment { start: 0.0, stop: 0.8, output_interval: 0.01, rtol };
+            let run = run_fmu_strict(&fmu, exp, &[], &vrs);
+            match run.result {
+                Ok(r) => {
+                    let times: Vec<(f64, bool)> = r.events.iter().map(|e| (e.time, e.reinitialized)).collect();
+                    println!("ShaftLine {version} 0..0.8 s rtol {rtol:.0e}: events (t, reinitialized) {times:?}");
+                    if !r.events.iter().any(|e| (0.7..0.8).contains(&e.time)) {
+                        failures.push(format!("{version} rtol {rtol:.0e}: no event at the breakaway (0.7..0.8 s): {times:?}"));
+                    }
                 }
-            }
-            Err(e) => {
-                println!("ShaftLine 0..0.8 s rtol {rtol:.0e}: {e}");
-                failures.push(format!("rtol {rtol:.0e}: {e}"));
+                Err(e) => {
+                    println!("ShaftLine {version} 0..0.8 s rtol {rtol:.0e}: {e}");
+                    failures.push(format!("{version} rtol {rtol:.0e}: {e}"));
+                }
             }
         }
     }

@@ -4,7 +4,7 @@ use super::algorithm::{Algorithm, ErrorControl, Master, Outcome};
 use super::error::{config, MasterError, Result};
 use super::results::{ResultTable, Stats};
 use super::system::{Component, Link, Port, System};
-use crate::ffi::{Status, ValueReference};
+use crate::ffi::{FmiVersion, Status, ValueReference};
 use crate::instance::{Instance, InstantiateOptions};
 use crate::model_description::VariableType;
 use crate::state::FmuState;
@@ -23,11 +23,35 @@ fn check(instance: &Instance, call: &'static str, time: f64, status: Status) -> 
     let tail = records[records.len().saturating_sub(LOG_TAIL)..].to_vec();
     Err(MasterError::Call {
         instance: instance.name().to_owned(),
-        call,
+        call: call_name(instance, call),
         time,
         status,
         log: tail,
     })
+}
+
+/// The function an instance's call went to: `call` (the master names its calls by their FMI 2.0
+/// names), or, for an FMI 3.0 instance, the FMI 3.0 function [`Instance`] calls instead.
+fn call_name(instance: &Instance, call: &'static str) -> &'static str {
+    if instance.fmi_version() == FmiVersion::Fmi2 {
+        return call;
+    }
+    match call {
+        "fmi2GetReal" => "fmi3GetFloat64",
+        "fmi2SetReal" => "fmi3SetFloat64",
+        "fmi2GetInteger" => "fmi3GetInt32/fmi3GetInt64",
+        "fmi2SetInteger" => "fmi3SetInt32/fmi3SetInt64",
+        "fmi2GetBoolean" => "fmi3GetBoolean",
+        "fmi2SetBoolean" => "fmi3SetBoolean",
+        "fmi2GetFMUstate" => "fmi3GetFMUState",
+        "fmi2SetFMUstate" => "fmi3SetFMUState",
+        "fmi2GetRealOutputDerivatives" => "fmi3GetOutputDerivatives",
+        "fmi2DoStep" => "fmi3DoStep",
+        "fmi2EnterInitializationMode" => "fmi3EnterInitializationMode",
+        "fmi2ExitInitializationMode" => "fmi3ExitInitializationMode",
+        "fmi2Terminate" => "fmi3Terminate",
+        other => other,
+    }
 }
 
 /// A recorded variable.
