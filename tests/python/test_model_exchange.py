@@ -328,3 +328,35 @@ def test_model_exchange_matches_co_simulation_at_the_same_tolerance(fmu_path, to
         activity_rel_tol=lambda calls: 8.0 * calls.get("fmi2GetDerivatives", 0) * tolerance,
     )
     assert not failures, "ME and CS disagree:\n" + "\n".join(failures) + "\n" + table
+
+
+def test_derivatives_and_nominals_are_served_in_initialization_mode(fmu_path):
+    # FMI 2.0.5, section 3.2.3's table: fmi2GetDerivatives may be called in Initialization Mode
+    # (since 2.0.1), fmi2GetNominalsOfContinuousStates too (since 2.0.3); a strict master may
+    # ask for them there. They are the equations at the start values: finite derivatives,
+    # positive nominals, and the nominals are those read after initialization.
+    from ctypes import c_double
+
+    from fmpy.fmi2 import FMU2Model
+
+    key = _fmu_key(fmu_path)
+    md = _model_description(key)
+    n = len(md.derivatives)
+    m = FMU2Model(guid=md.guid, unzipDirectory=_unzipdir(key), modelIdentifier=md.modelExchange.modelIdentifier,
+                  instanceName="init")
+    m.instantiate()
+    try:
+        m.setupExperiment(startTime=0.0)
+        m.enterInitializationMode()
+        dx, nominals = (c_double * n)(), (c_double * n)()
+        m.getDerivatives(dx, n)
+        m.getNominalsOfContinuousStates(nominals, n)
+        assert np.all(np.isfinite(np.array(dx))), fmu_path.stem
+        assert np.all(np.array(nominals) > 0), fmu_path.stem
+        m.exitInitializationMode()
+        after = (c_double * n)()
+        m.getNominalsOfContinuousStates(after, n)
+        assert np.array_equal(np.array(nominals), np.array(after)), fmu_path.stem
+        m.terminate()
+    finally:
+        m.freeInstance()

@@ -137,8 +137,8 @@ unsafe fn get_values<M: Model, T: FmiValue>(c: fmi2Component, name: &str, vr: *c
     })
 }
 
-unsafe fn set_values<M: Model, T: FmiValue>(c: fmi2Component, name: &str, vr: *const fmi2ValueReference, n: usize, vals: &[T]) -> fmi2Status {
-    with::<M>(c, Function::Set, name, |comp| {
+unsafe fn set_values<M: Model, T: FmiValue>(c: fmi2Component, function: Function, name: &str, vr: *const fmi2ValueReference, n: usize, vals: &[T]) -> fmi2Status {
+    with::<M>(c, function, name, |comp| {
         let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
         comp.instance.set(vrs, vals)
     })
@@ -177,15 +177,15 @@ pub unsafe fn get_string<M: Model>(c: fmi2Component, vr: *const fmi2ValueReferen
 
 pub unsafe fn set_real<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2Real) -> fmi2Status {
     match slice(value, n) {
-        Some(vals) => set_values::<M, f64>(c, "fmi2SetReal", vr, n, vals),
+        Some(vals) => set_values::<M, f64>(c, Function::Set, "fmi2SetReal", vr, n, vals),
         None => with::<M>(c, Function::Set, "fmi2SetReal", |_| Err(null("the value array"))),
     }
 }
 
 pub unsafe fn set_integer<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2Integer) -> fmi2Status {
     match slice(value, n) {
-        Some(vals) => set_values::<M, i32>(c, "fmi2SetInteger", vr, n, vals),
-        None => with::<M>(c, Function::Set, "fmi2SetInteger", |_| Err(null("the value array"))),
+        Some(vals) => set_values::<M, i32>(c, Function::SetDiscrete, "fmi2SetInteger", vr, n, vals),
+        None => with::<M>(c, Function::SetDiscrete, "fmi2SetInteger", |_| Err(null("the value array"))),
     }
 }
 
@@ -193,14 +193,14 @@ pub unsafe fn set_boolean<M: Model>(c: fmi2Component, vr: *const fmi2ValueRefere
     match slice(value, n) {
         Some(vals) => {
             let bools: Vec<bool> = vals.iter().map(|b| *b != 0).collect();
-            set_values::<M, bool>(c, "fmi2SetBoolean", vr, n, &bools)
+            set_values::<M, bool>(c, Function::SetDiscrete, "fmi2SetBoolean", vr, n, &bools)
         }
-        None => with::<M>(c, Function::Set, "fmi2SetBoolean", |_| Err(null("the value array"))),
+        None => with::<M>(c, Function::SetDiscrete, "fmi2SetBoolean", |_| Err(null("the value array"))),
     }
 }
 
 pub unsafe fn set_string<M: Model>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2String) -> fmi2Status {
-    with::<M>(c, Function::Set, "fmi2SetString", |comp| {
+    with::<M>(c, Function::SetDiscrete, "fmi2SetString", |comp| {
         let vrs = slice(vr, n).ok_or_else(|| null("the value reference array"))?;
         slice(value, n).ok_or_else(|| null("the value array"))?;
         match vrs.first() {

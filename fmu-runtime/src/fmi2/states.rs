@@ -46,7 +46,12 @@ pub enum Function {
     Terminate,
     Reset,
     Get,
+    /// fmi2SetReal.
     Set,
+    /// fmi2SetInteger, fmi2SetBoolean, fmi2SetString: as fmi2SetReal, but not in
+    /// Continuous-Time Mode (FMI 2.0.5, table of section 3.2.3: there only continuous Real
+    /// inputs may change).
+    SetDiscrete,
     FmuState,
     GetDirectionalDerivative,
     SetRealInputDerivatives,
@@ -80,6 +85,7 @@ impl CallTable for Function {
             Function::Reset => ALIVE,
             Function::Get => READABLE,
             Function::Set => INSTANTIATED | INIT | COMPLETE | SIMULATING,
+            Function::SetDiscrete => INSTANTIATED | INIT | COMPLETE | EVENT,
             Function::FmuState => ALIVE,
             Function::GetDirectionalDerivative => READABLE,
             Function::SetRealInputDerivatives => INSTANTIATED | INIT | COMPLETE,
@@ -92,9 +98,10 @@ impl CallTable for Function {
             Function::NewDiscreteStates | Function::EnterContinuousTimeMode => EVENT,
             Function::CompletedIntegratorStep | Function::SetContinuousStates => CONTINUOUS,
             Function::SetTime => SIMULATING,
-            Function::GetDerivatives => SIMULATING | TERMINATED | ERROR,
+            // In Initialization Mode too since FMI 2.0.1 (section 3.2.3), the nominals since 2.0.3.
+            Function::GetDerivatives => INIT | SIMULATING | TERMINATED | ERROR,
             Function::GetEventIndicators | Function::GetContinuousStates => INIT | SIMULATING | TERMINATED | ERROR,
-            Function::GetNominalsOfContinuousStates => INSTANTIATED | SIMULATING | TERMINATED | ERROR,
+            Function::GetNominalsOfContinuousStates => INSTANTIATED | INIT | SIMULATING | TERMINATED | ERROR,
         }
     }
 
@@ -140,6 +147,17 @@ mod tests {
         for m in [Phase::Instantiated, Phase::Initialization, Phase::Terminated, Phase::Error, Phase::StepFailed] {
             assert!(!Function::DoStep.is_allowed_in(m), "{m:?}");
         }
+    }
+
+    #[test]
+    fn model_exchange_cells_of_fmi_2_0_5() {
+        // Section 3.2.3's table: only Reals may be set in Continuous-Time Mode; the derivatives
+        // and the nominals may be read in Initialization Mode.
+        assert!(Function::Set.is_allowed_in(Phase::ContinuousTime));
+        assert!(!Function::SetDiscrete.is_allowed_in(Phase::ContinuousTime));
+        assert!(Function::SetDiscrete.is_allowed_in(Phase::Event) && Function::SetDiscrete.is_allowed_in(Phase::Stepping));
+        assert!(Function::GetDerivatives.is_allowed_in(Phase::Initialization));
+        assert!(Function::GetNominalsOfContinuousStates.is_allowed_in(Phase::Initialization));
     }
 
     #[test]
