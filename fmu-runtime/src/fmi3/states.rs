@@ -83,7 +83,9 @@ impl CallTable for Function {
             Function::CompletedIntegratorStep | Function::SetContinuousStates => CONTINUOUS,
             Function::SetTime => EVENT | CONTINUOUS,
             Function::GetContinuousStateDerivatives | Function::GetEventIndicators | Function::GetContinuousStates => INIT | EVENT | CONTINUOUS | TERMINATED | ERROR,
-            Function::GetNominalsOfContinuousStates => INSTANTIATED | EVENT | CONTINUOUS | TERMINATED | ERROR,
+            // Initialization Mode and the Initialized states (FMI 3.0.2, "State: Initialization Mode"); in
+            // Instantiated too, which the standard does not list and a master cannot be hurt by.
+            Function::GetNominalsOfContinuousStates => INSTANTIATED | INIT | EVENT | CONTINUOUS | TERMINATED | ERROR,
             Function::GetOutputDerivatives => STEP | FAILED | TERMINATED | ERROR,
             Function::DoStep => STEP,
             Function::EnterStepMode => EVENT,
@@ -136,5 +138,10 @@ mod tests {
         assert!(Function::EnterEventMode.is_allowed_in(Phase::Stepping) && !Function::EnterEventMode.is_allowed_in(Phase::StepFailed));
         assert!(Function::EnterStepMode.is_allowed_in(Phase::Event) && !Function::EnterStepMode.is_allowed_in(Phase::Stepping));
         assert!(Function::EnterStepMode.is_co_simulation_only() && !Function::UpdateDiscreteStates.is_model_exchange_only());
+        // Model Exchange in Initialization Mode (FMI 3.0.2, "State: Initialization Mode"): derivatives, states,
+        // nominals and event indicators may be read.
+        for f in [Function::GetContinuousStateDerivatives, Function::GetContinuousStates, Function::GetNominalsOfContinuousStates, Function::GetEventIndicators] {
+            assert!(f.is_allowed_in(Phase::Initialization), "{f:?}");
+        }
     }
 }
