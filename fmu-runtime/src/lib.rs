@@ -55,6 +55,7 @@ pub mod rk;
 pub mod log;
 pub mod model;
 pub mod phase;
+pub mod real;
 pub mod standards;
 pub mod state;
 pub mod status;
