@@ -9,6 +9,9 @@
 //!     MotorFan-like run, DIR/traj_<label>.csv (t, motor_speed, shaft_torque on the 1 ms grid)
 //! fmu-bench memory --fmu FMU
 //!     memory per instance of one FMU (`run` starts it in a child process for each FMU)
+//! fmu-bench chain --fmu FMU --out JSON [--real NAME=VALUE]... [--tolerance RTOL] [...]
+//! fmu-bench chain-describe --lib LIB --out JSON
+//!     the size benchmark of issue 25 (`bench/chain.py` runs them; see src/chain.rs)
 //! ```
 //!
 //! Timing: each repeat instantiates a fresh instance, initializes it, then times the stepping
@@ -20,6 +23,7 @@
 //! The pythonfmu FMU needs libpython preloaded in a native host (`LD_PRELOAD`, see
 //! /work/shared/TOOLS.md) and the venv's site-packages on `PYTHONPATH`; `bench/run.sh` sets both.
 
+mod chain;
 mod floors;
 mod json;
 
@@ -51,7 +55,9 @@ fn main() -> ExitCode {
         Some("package-floors") => floors::package(&Args(args[1..].to_vec())),
         Some("run") => run(&Args(args[1..].to_vec())),
         Some("memory") => memory(&Args(args[1..].to_vec())),
-        _ => Err("usage: fmu-bench package-floors --empty-step LIB --null-step LIB --out DIR\n       fmu-bench run --dist DIR --floors DIR [--pythonfmu FMU] [--repeats N] --out DIR".into()),
+        Some("chain") => chain::chain(&Args(args[1..].to_vec())),
+        Some("chain-describe") => chain::describe(&Args(args[1..].to_vec())),
+        _ => Err("usage: fmu-bench package-floors --empty-step LIB --null-step LIB --out DIR\n       fmu-bench run --dist DIR --floors DIR [--pythonfmu FMU] [--repeats N] --out DIR\n       fmu-bench memory --fmu FMU\n       fmu-bench chain --fmu FMU --out JSON [--real NAME=VALUE]... [--tolerance RTOL] [--repeats N] [--step-budget S] [--jacobian-budget S] [--memory-budget S] [--jacobian-out FILE] [--record VRFILE --record-out BIN]\n       fmu-bench chain-describe --lib LIB --out JSON".into()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
