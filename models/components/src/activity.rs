@@ -2,6 +2,8 @@
 //! the amplitude of the energy flow through element i; elements are then ranked by their share
 //! of the total (Table 3.3).
 
+use fmu_runtime::real::Real;
+
 /// d A_i / dt for an element exchanging `power_w` (= e f).
 ///
 /// ```
@@ -10,17 +12,17 @@
 /// assert_eq!(activity_rate(-250.0), 250.0);
 /// assert_eq!(shares_percent([30.0, 10.0, 60.0]), [30.0, 10.0, 60.0]);
 /// ```
-pub fn activity_rate(power_w: f64) -> f64 {
+pub fn activity_rate<R: Real>(power_w: R) -> R {
     power_w.abs()
 }
 
 /// Each activity's share of their sum, in percent (all 0 while the sum is 0).
-pub fn shares_percent<const N: usize>(activities: [f64; N]) -> [f64; N] {
-    let total: f64 = activities.iter().sum();
+pub fn shares_percent<R: Real, const N: usize>(activities: [R; N]) -> [R; N] {
+    let total: R = activities.iter().copied().sum();
     if total > 0.0 {
-        activities.map(|a| 100.0 * a / total)
+        activities.map(|a| a * 100.0 / total)
     } else {
-        [0.0; N]
+        [R::from(0.0); N]
     }
 }
 

@@ -1,23 +1,25 @@
 //! The little complex arithmetic an equivalent circuit needs (phasors).
 
+use fmu_runtime::real::Real;
 use std::ops::{Add, Div, Mul, Sub};
 
+/// A complex number over any real scalar (`f64` by default).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Complex {
-    pub re: f64,
-    pub im: f64,
+pub struct Complex<R = f64> {
+    pub re: R,
+    pub im: R,
 }
 
-impl Complex {
-    pub const fn new(re: f64, im: f64) -> Self {
+impl<R: Real> Complex<R> {
+    pub const fn new(re: R, im: R) -> Self {
         Complex { re, im }
     }
 
-    pub fn norm_sqr(self) -> f64 {
+    pub fn norm_sqr(self) -> R {
         self.re * self.re + self.im * self.im
     }
 
-    pub fn abs(self) -> f64 {
+    pub fn abs(self) -> R {
         self.re.hypot(self.im)
     }
 
@@ -26,35 +28,35 @@ impl Complex {
     }
 
     /// Two impedances in parallel.
-    pub fn parallel(self, other: Complex) -> Complex {
+    pub fn parallel(self, other: Complex<R>) -> Complex<R> {
         self * other / (self + other)
     }
 }
 
-impl Add for Complex {
-    type Output = Complex;
-    fn add(self, o: Complex) -> Complex {
+impl<R: Real> Add for Complex<R> {
+    type Output = Complex<R>;
+    fn add(self, o: Complex<R>) -> Complex<R> {
         Complex::new(self.re + o.re, self.im + o.im)
     }
 }
 
-impl Sub for Complex {
-    type Output = Complex;
-    fn sub(self, o: Complex) -> Complex {
+impl<R: Real> Sub for Complex<R> {
+    type Output = Complex<R>;
+    fn sub(self, o: Complex<R>) -> Complex<R> {
         Complex::new(self.re - o.re, self.im - o.im)
     }
 }
 
-impl Mul for Complex {
-    type Output = Complex;
-    fn mul(self, o: Complex) -> Complex {
+impl<R: Real> Mul for Complex<R> {
+    type Output = Complex<R>;
+    fn mul(self, o: Complex<R>) -> Complex<R> {
         Complex::new(self.re * o.re - self.im * o.im, self.re * o.im + self.im * o.re)
     }
 }
 
-impl Div for Complex {
-    type Output = Complex;
-    fn div(self, o: Complex) -> Complex {
+impl<R: Real> Div for Complex<R> {
+    type Output = Complex<R>;
+    fn div(self, o: Complex<R>) -> Complex<R> {
         let d = o.norm_sqr();
         Complex::new((self.re * o.re + self.im * o.im) / d, (self.im * o.re - self.re * o.im) / d)
     }

@@ -1,6 +1,7 @@
 //! Signal elements of the variable-speed start (section 3.3.2, Figures 3.7 and 3.13): the speed
 //! set-point ramp, its second-order filter and the PI speed controller.
 
+use fmu_runtime::real::Real;
 use std::f64::consts::PI;
 
 /// A ramp from 0 to `target` over `duration_s` starting at t = 0 (a step when the duration is 0).
@@ -13,15 +14,15 @@ use std::f64::consts::PI;
 /// assert_eq!(set_point.value(12.0), 153.5);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SpeedRamp {
-    pub target: f64,
-    pub duration_s: f64,
+pub struct SpeedRamp<R = f64> {
+    pub target: R,
+    pub duration_s: R,
 }
 
-impl SpeedRamp {
-    pub fn value(&self, time_s: f64) -> f64 {
+impl<R: Real> SpeedRamp<R> {
+    pub fn value(&self, time_s: R) -> R {
         if time_s <= 0.0 && self.duration_s > 0.0 {
-            0.0
+            R::from(0.0)
         } else if time_s >= self.duration_s {
             self.target
         } else {
@@ -30,17 +31,17 @@ impl SpeedRamp {
     }
 
     /// d(value)/dt: the slope inside the ramp, 0 outside.
-    pub fn slope(&self, time_s: f64) -> f64 {
+    pub fn slope(&self, time_s: R) -> R {
         if self.duration_s > 0.0 && time_s >= 0.0 && time_s < self.duration_s {
             self.target / self.duration_s
         } else {
-            0.0
+            R::from(0.0)
         }
     }
 
     /// The kinks of the ramp after `after`, for the solver to stop at.
-    pub fn next_kink(&self, after: f64) -> Option<f64> {
-        [0.0, self.duration_s].into_iter().find(|t| *t > after)
+    pub fn next_kink(&self, after: R) -> Option<R> {
+        [R::from(0.0), self.duration_s].into_iter().find(|t| *t > after)
     }
 }
 
@@ -53,12 +54,12 @@ impl SpeedRamp {
 /// assert!(filter.acceleration(2.0, 0.0, 0.0) > 0.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SecondOrderFilter {
-    pub natural_frequency_hz: f64,
-    pub damping: f64,
+pub struct SecondOrderFilter<R = f64> {
+    pub natural_frequency_hz: R,
+    pub damping: R,
 }
 
-impl SecondOrderFilter {
+impl<R: Real> SecondOrderFilter<R> {
     /// The filter 1 / (1 + a1 s + a2 s^2) (unit static gain): wn = 1 / sqrt(a2),
     /// zeta = a1 / (2 sqrt(a2)).
     /// ```
@@ -67,9 +68,9 @@ impl SecondOrderFilter {
     /// assert!((f.natural_frequency_hz - 100.0 / (2.0 * std::f64::consts::PI)).abs() < 1e-9);
     /// assert!((f.damping - 0.7).abs() < 1e-12);
     /// ```
-    pub fn from_coefficients(a1_s: f64, a2_s2: f64) -> Self {
+    pub fn from_coefficients(a1_s: R, a2_s2: R) -> Self {
         let root = a2_s2.sqrt();
-        SecondOrderFilter { natural_frequency_hz: 1.0 / (2.0 * PI * root), damping: a1_s / (2.0 * root) }
+        SecondOrderFilter { natural_frequency_hz: R::from(1.0) / (root * (2.0 * PI)), damping: a1_s / (root * 2.0) }
     }
 
     /// The second-order Bessel-type filter that smooths a position (or speed) reference at a
@@ -83,11 +84,11 @@ impl SecondOrderFilter {
     /// assert!((f.natural_frequency_hz - 50.0 / 0.6180f64.sqrt()).abs() < 1e-9);
     /// assert!((f.damping - 1.3617 / (2.0 * 0.6180f64.sqrt())).abs() < 1e-12);
     /// ```
-    pub fn bessel(critical_frequency_hz: f64) -> Self {
+    pub fn bessel(critical_frequency_hz: R) -> Self {
         const A1: f64 = 1.3617; // s coefficient times w_c
         const A2: f64 = 0.6180; // s^2 coefficient times w_c^2
-        let wc = 2.0 * PI * critical_frequency_hz;
-        SecondOrderFilter::from_coefficients(A1 / wc, A2 / (wc * wc))
+        let wc = critical_frequency_hz * (2.0 * PI);
+        SecondOrderFilter::from_coefficients(R::from(A1) / wc, R::from(A2) / (wc * wc))
     }
 
     /// The filter w^2 / (s^2 + 2 D w s + w^2) given by its angular frequency w in rad/s (as
@@ -98,14 +99,14 @@ impl SecondOrderFilter {
     /// let f = SecondOrderFilter::from_angular_frequency(2.0 * 3.14 * 800.0, 1.0);
     /// assert!((f.natural_frequency_hz - 800.0 * 3.14 / std::f64::consts::PI).abs() < 1e-9);
     /// ```
-    pub fn from_angular_frequency(angular_frequency_rad_per_s: f64, damping: f64) -> Self {
+    pub fn from_angular_frequency(angular_frequency_rad_per_s: R, damping: R) -> Self {
         SecondOrderFilter { natural_frequency_hz: angular_frequency_rad_per_s / (2.0 * PI), damping }
     }
 
     /// y'' for input `u`, output `y` and its rate `y_rate`.
-    pub fn acceleration(&self, u: f64, y: f64, y_rate: f64) -> f64 {
-        let wn = 2.0 * PI * self.natural_frequency_hz;
-        wn * wn * (u - y) - 2.0 * self.damping * wn * y_rate
+    pub fn acceleration(&self, u: R, y: R, y_rate: R) -> R {
+        let wn = self.natural_frequency_hz * (2.0 * PI);
+        wn * wn * (u - y) - self.damping * 2.0 * wn * y_rate
     }
 }
 
@@ -122,12 +123,12 @@ impl SecondOrderFilter {
 /// assert!((mean - 1.0).abs() < 1e-9);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Multiplier {
-    pub reference_amplitude: f64,
+pub struct Multiplier<R = f64> {
+    pub reference_amplitude: R,
 }
 
-impl Multiplier {
-    pub fn product(&self, signal: f64, reference: f64) -> f64 {
+impl<R: Real> Multiplier<R> {
+    pub fn product(&self, signal: R, reference: R) -> R {
         signal * reference / self.reference_amplitude
     }
 }
@@ -152,30 +153,30 @@ impl Multiplier {
 /// assert!((pi.integral_rate(100.0, 0.0) - (100.0 - 17_500.0 / (2000.0 * 0.09))).abs() < 1e-9);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PiController {
-    pub proportional_gain: f64,
-    pub integral_gain: f64,
+pub struct PiController<R = f64> {
+    pub proportional_gain: R,
+    pub integral_gain: R,
     /// The limit on |command|, N m; `f64::INFINITY` for none (then nothing is ever clamped).
-    pub output_limit: f64,
+    pub output_limit: R,
     /// The anti-windup tracking time constant T_t, s (> 0).
-    pub tracking_time_s: f64,
+    pub tracking_time_s: R,
 }
 
-impl PiController {
+impl<R: Real> PiController<R> {
     /// The raw command Kp e + Ki integral, before the limit.
-    fn raw(&self, error: f64, integral: f64) -> f64 {
+    fn raw(&self, error: R, integral: R) -> R {
         self.proportional_gain * error + self.integral_gain * integral
     }
 
     /// The command, clamped to +/- the limit.
-    pub fn command(&self, error: f64, integral: f64) -> f64 {
+    pub fn command(&self, error: R, integral: R) -> R {
         self.raw(error, integral).clamp(-self.output_limit, self.output_limit)
     }
 
     /// d(integral)/dt: the error plus the tracking term (u - raw) / (Ki T_t), which is zero while
     /// the command is within its limit. Without an integral gain the integral does not act on the
     /// command, and it integrates the error alone.
-    pub fn integral_rate(&self, error: f64, integral: f64) -> f64 {
+    pub fn integral_rate(&self, error: R, integral: R) -> R {
         if self.integral_gain == 0.0 {
             return error;
         }
@@ -189,7 +190,7 @@ impl PiController {
     /// limits (indicator limit - |raw|), 1 clamped at +limit (raw - limit), -1 at -limit
     /// (-limit - raw); a mode holds exactly while its indicator is positive. The equations do
     /// not depend on the mode: it only marks the side.
-    pub fn limit_indicator(&self, mode: i32, error: f64, integral: f64) -> f64 {
+    pub fn limit_indicator(&self, mode: i32, error: R, integral: R) -> R {
         let raw = self.raw(error, integral);
         match mode {
             1 => raw - self.output_limit,
@@ -202,7 +203,7 @@ impl PiController {
     /// limit, the side it is heading to (`raw_rate`, d(raw)/dt), and where that is zero too the
     /// mode holds. The answer depends on the current mode only there, so a repeated update
     /// settles at once.
-    pub fn next_limit_mode(&self, mode: i32, error: f64, integral: f64, raw_rate: f64) -> i32 {
+    pub fn next_limit_mode(&self, mode: i32, error: R, integral: R, raw_rate: R) -> i32 {
         let (raw, limit) = (self.raw(error, integral), self.output_limit);
         if raw > limit {
             1
@@ -213,7 +214,7 @@ impl PiController {
         } else {
             let outwards = raw_rate * raw;
             if outwards > 0.0 {
-                raw.signum() as i32
+                raw.value().signum() as i32
             } else if outwards < 0.0 {
                 0
             } else {
@@ -223,7 +224,7 @@ impl PiController {
     }
 
     /// d(raw)/dt = Kp de/dt + Ki d(integral)/dt, for [`next_limit_mode`](Self::next_limit_mode).
-    pub fn raw_rate(&self, error: f64, error_rate: f64, integral: f64) -> f64 {
+    pub fn raw_rate(&self, error: R, error_rate: R, integral: R) -> R {
         self.proportional_gain * error_rate + self.integral_gain * self.integral_rate(error, integral)
     }
 }

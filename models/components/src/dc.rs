@@ -8,16 +8,17 @@
 //!
 //! Armature circuit (a separately excited machine at constant field): U = R I + L dI/dt + k w.
 
+use fmu_runtime::real::Real;
 use fmu_runtime::elements::{Domain, Effect, Kind};
 
 /// A separately excited DC machine at constant field: armature resistance R, inductance L and
 /// machine constant k (eq. 3.9).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DcMachine {
-    pub resistance_ohm: f64,
-    pub inductance_h: f64,
+pub struct DcMachine<R = f64> {
+    pub resistance_ohm: R,
+    pub inductance_h: R,
     /// k = E / w = C / I, V s/rad (= N m/A).
-    pub constant_v_s_per_rad: f64,
+    pub constant_v_s_per_rad: R,
 }
 
 impl DcMachine {
@@ -28,44 +29,46 @@ impl DcMachine {
     pub const RESISTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Dissipation, what: "armature resistance" };
     /// ... and its inductance.
     pub const INDUCTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::StorageI, what: "armature inductance" };
+}
 
+impl<R: Real> DcMachine<R> {
     /// The machine constant that makes the machine deliver `rated_torque` at `rated_speed` from
     /// `rated_voltage` in steady state: U = R I + k w and T = k I give k^2 w - U k + R T = 0, whose
     /// larger root is the machine (the smaller one would draw almost the short-circuit current
     /// U / R). None when no real root exists (U^2 < 4 w R T: the rating is impossible).
-    pub fn constant_from_rated_point(rated_voltage_v: f64, rated_torque_n_m: f64, rated_speed_rad_per_s: f64, resistance_ohm: f64) -> Option<f64> {
+    pub fn constant_from_rated_point(rated_voltage_v: R, rated_torque_n_m: R, rated_speed_rad_per_s: R, resistance_ohm: R) -> Option<R> {
         let (u, t, w, r) = (rated_voltage_v, rated_torque_n_m, rated_speed_rad_per_s, resistance_ohm);
-        let discriminant = u * u - 4.0 * w * r * t;
-        (discriminant >= 0.0 && w > 0.0).then(|| (u + discriminant.sqrt()) / (2.0 * w))
+        let discriminant = u * u - w * 4.0 * r * t;
+        (discriminant >= 0.0 && w > 0.0).then(|| (u + discriminant.sqrt()) / (w * 2.0))
     }
 
     /// Back EMF E = k w, V.
-    pub fn back_emf_v(&self, speed_rad_per_s: f64) -> f64 {
+    pub fn back_emf_v(&self, speed_rad_per_s: R) -> R {
         self.constant_v_s_per_rad * speed_rad_per_s
     }
 
     /// Electromagnetic torque C = k I, N m.
-    pub fn torque_n_m(&self, current_a: f64) -> f64 {
+    pub fn torque_n_m(&self, current_a: R) -> R {
         self.constant_v_s_per_rad * current_a
     }
 
     /// dI/dt = (U - R I - k w) / L, A/s.
-    pub fn current_rate_a_per_s(&self, voltage_v: f64, current_a: f64, speed_rad_per_s: f64) -> f64 {
+    pub fn current_rate_a_per_s(&self, voltage_v: R, current_a: R, speed_rad_per_s: R) -> R {
         (voltage_v - self.resistance_ohm * current_a - self.back_emf_v(speed_rad_per_s)) / self.inductance_h
     }
 
     /// The armature current with the inductance neglected (steady state at this speed), A.
-    pub fn resistive_current_a(&self, voltage_v: f64, speed_rad_per_s: f64) -> f64 {
+    pub fn resistive_current_a(&self, voltage_v: R, speed_rad_per_s: R) -> R {
         (voltage_v - self.back_emf_v(speed_rad_per_s)) / self.resistance_ohm
     }
 
     /// Power dissipated in the armature resistance, W.
-    pub fn resistance_power_w(&self, current_a: f64) -> f64 {
+    pub fn resistance_power_w(&self, current_a: R) -> R {
         self.resistance_ohm * current_a * current_a
     }
 
     /// Power into the armature inductance's magnetic energy, L dI/dt I, W.
-    pub fn inductance_power_w(&self, current_rate_a_per_s: f64, current_a: f64) -> f64 {
+    pub fn inductance_power_w(&self, current_rate_a_per_s: R, current_a: R) -> R {
         self.inductance_h * current_rate_a_per_s * current_a
     }
 }
@@ -84,8 +87,8 @@ impl DcMachine {
 /// assert_eq!(chopper.supply_power_w(0.6, 50.0), 12000.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Chopper {
-    pub supply_voltage_v: f64,
+pub struct Chopper<R = f64> {
+    pub supply_voltage_v: R,
 }
 
 impl Chopper {
@@ -95,19 +98,21 @@ impl Chopper {
     /// ... and the chopper itself, an ideal transformer of ratio alpha (U_out = alpha U_in,
     /// I_in = alpha I_out).
     pub const TRANSFORMER: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Transformer, what: "chopper (ideal transformer of ratio alpha)" };
+}
 
+impl<R: Real> Chopper<R> {
     /// Mean output voltage alpha U_in, V.
-    pub fn output_voltage_v(&self, duty_cycle: f64) -> f64 {
+    pub fn output_voltage_v(&self, duty_cycle: R) -> R {
         duty_cycle * self.supply_voltage_v
     }
 
     /// Mean current drawn from the supply, alpha I_out, A.
-    pub fn supply_current_a(&self, duty_cycle: f64, output_current_a: f64) -> f64 {
+    pub fn supply_current_a(&self, duty_cycle: R, output_current_a: R) -> R {
         duty_cycle * output_current_a
     }
 
     /// Power the DC bus delivers, U_in alpha I_out (= U_out I_out: the chopper is lossless), W.
-    pub fn supply_power_w(&self, duty_cycle: f64, output_current_a: f64) -> f64 {
+    pub fn supply_power_w(&self, duty_cycle: R, output_current_a: R) -> R {
         self.supply_voltage_v * self.supply_current_a(duty_cycle, output_current_a)
     }
 }

@@ -2,6 +2,7 @@
 //! dissipates, an inductor stores magnetic energy (current is its state), a capacitor stores
 //! electric energy (voltage is its state).
 
+use fmu_runtime::real::Real;
 use fmu_runtime::elements::{Domain, Effect, Kind};
 
 /// A linear resistor: u = R i (dissipation).
@@ -13,26 +14,28 @@ use fmu_runtime::elements::{Domain, Effect, Kind};
 /// assert_eq!(r.power_w(2.0), 40.0); // R i^2, dissipated
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Resistor {
-    pub resistance_ohm: f64,
+pub struct Resistor<R = f64> {
+    pub resistance_ohm: R,
 }
 
 impl Resistor {
     /// Its effect (Table 3.1): an electrical dissipation.
     pub const RESISTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Dissipation, what: "resistance" };
+}
 
+impl<R: Real> Resistor<R> {
     /// Voltage drop across the resistor, V.
-    pub fn voltage_v(&self, current_a: f64) -> f64 {
+    pub fn voltage_v(&self, current_a: R) -> R {
         self.resistance_ohm * current_a
     }
 
     /// Current through the resistor under a voltage, A.
-    pub fn current_a(&self, voltage_v: f64) -> f64 {
+    pub fn current_a(&self, voltage_v: R) -> R {
         voltage_v / self.resistance_ohm
     }
 
     /// Power dissipated, W (never negative).
-    pub fn power_w(&self, current_a: f64) -> f64 {
+    pub fn power_w(&self, current_a: R) -> R {
         self.resistance_ohm * current_a * current_a
     }
 }
@@ -47,31 +50,33 @@ impl Resistor {
 /// assert!((l.reactance_ohm(2.0 * std::f64::consts::PI * 50.0) - 3.14159).abs() < 1e-5);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Inductor {
-    pub inductance_h: f64,
+pub struct Inductor<R = f64> {
+    pub inductance_h: R,
 }
 
 impl Inductor {
     /// Its effect (Table 3.1): inductive storage, the current its state.
     pub const INDUCTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::StorageI, what: "inductance" };
+}
 
+impl<R: Real> Inductor<R> {
     /// di/dt under a voltage across the inductor, A/s.
-    pub fn current_rate_a_per_s(&self, voltage_v: f64) -> f64 {
+    pub fn current_rate_a_per_s(&self, voltage_v: R) -> R {
         voltage_v / self.inductance_h
     }
 
     /// Stored energy L i^2 / 2, J.
     /// Power stored per second, L i di/dt, W.
-    pub fn power_w(&self, current_a: f64, current_rate_a_per_s: f64) -> f64 {
+    pub fn power_w(&self, current_a: R, current_rate_a_per_s: R) -> R {
         self.inductance_h * current_a * current_rate_a_per_s
     }
 
-    pub fn energy_j(&self, current_a: f64) -> f64 {
-        0.5 * self.inductance_h * current_a * current_a
+    pub fn energy_j(&self, current_a: R) -> R {
+        self.inductance_h * 0.5 * current_a * current_a
     }
 
     /// Impedance magnitude at an angular frequency, Ohm.
-    pub fn reactance_ohm(&self, angular_frequency_rad_per_s: f64) -> f64 {
+    pub fn reactance_ohm(&self, angular_frequency_rad_per_s: R) -> R {
         self.inductance_h * angular_frequency_rad_per_s
     }
 }
@@ -84,32 +89,34 @@ impl Inductor {
 /// assert!((c.energy_j(10.0) - 5e-3).abs() < 1e-15); // C u^2 / 2
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Capacitor {
-    pub capacitance_f: f64,
+pub struct Capacitor<R = f64> {
+    pub capacitance_f: R,
 }
 
 impl Capacitor {
     /// Its effect (Table 3.1): capacitive storage, the voltage its state.
     pub const CAPACITANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::StorageC, what: "capacitance" };
+}
 
+impl<R: Real> Capacitor<R> {
     /// du/dt under a current into the capacitor, V/s.
-    pub fn voltage_rate_v_per_s(&self, current_a: f64) -> f64 {
+    pub fn voltage_rate_v_per_s(&self, current_a: R) -> R {
         current_a / self.capacitance_f
     }
 
     /// Stored energy C u^2 / 2, J.
     /// Power stored per second, C u du/dt, W.
-    pub fn power_w(&self, voltage_v: f64, voltage_rate_v_per_s: f64) -> f64 {
+    pub fn power_w(&self, voltage_v: R, voltage_rate_v_per_s: R) -> R {
         self.capacitance_f * voltage_v * voltage_rate_v_per_s
     }
 
-    pub fn energy_j(&self, voltage_v: f64) -> f64 {
-        0.5 * self.capacitance_f * voltage_v * voltage_v
+    pub fn energy_j(&self, voltage_v: R) -> R {
+        self.capacitance_f * 0.5 * voltage_v * voltage_v
     }
 
     /// Impedance magnitude at an angular frequency, Ohm.
-    pub fn reactance_ohm(&self, angular_frequency_rad_per_s: f64) -> f64 {
-        1.0 / (self.capacitance_f * angular_frequency_rad_per_s)
+    pub fn reactance_ohm(&self, angular_frequency_rad_per_s: R) -> R {
+        R::from(1.0) / (self.capacitance_f * angular_frequency_rad_per_s)
     }
 }
 

@@ -15,6 +15,7 @@
 //! assert!(shaft.torque_n_m(0.01, 0.0) > 200.0);
 //! ```
 
+use fmu_runtime::real::Real;
 use crate::magnetic::Reluctance;
 use crate::thermal::{ThermalConductance, ThermalNode};
 use std::f64::consts::PI;
@@ -63,8 +64,8 @@ pub const HYDRAULIC_OIL_DYNAMIC_VISCOSITY_PA_S: f64 = HYDRAULIC_OIL_DENSITY_KG_P
 /// use components::geometry::cylinder_inertia_kg_m2;
 /// assert_eq!(cylinder_inertia_kg_m2(100.0, 0.3), 4.5); // 100 x 0.09 / 2
 /// ```
-pub fn cylinder_inertia_kg_m2(mass_kg: f64, radius_m: f64) -> f64 {
-    0.5 * mass_kg * radius_m * radius_m
+pub fn cylinder_inertia_kg_m2<R: Real>(mass_kg: R, radius_m: R) -> R {
+    mass_kg * 0.5 * radius_m * radius_m
 }
 
 /// Inertia of a hollow cylinder (a tube, a rotor on its bore) about its axis, from its material:
@@ -76,7 +77,7 @@ pub fn cylinder_inertia_kg_m2(mass_kg: f64, radius_m: f64) -> f64 {
 /// let j = hollow_cylinder_inertia_kg_m2(STEEL_DENSITY_KG_PER_M3, 0.1, 0.05, 0.2);
 /// assert!((j - 0.23120).abs() < 1e-5);
 /// ```
-pub fn hollow_cylinder_inertia_kg_m2(density_kg_per_m3: f64, outer_radius_m: f64, inner_radius_m: f64, length_m: f64) -> f64 {
+pub fn hollow_cylinder_inertia_kg_m2<R: Real>(density_kg_per_m3: R, outer_radius_m: R, inner_radius_m: R, length_m: R) -> R {
     density_kg_per_m3 * PI * length_m * (outer_radius_m.powi(4) - inner_radius_m.powi(4)) / 2.0
 }
 
@@ -88,8 +89,8 @@ pub fn hollow_cylinder_inertia_kg_m2(density_kg_per_m3: f64, outer_radius_m: f64
 /// let j = solid_cylinder_inertia_kg_m2(STEEL_DENSITY_KG_PER_M3, 0.1, 0.2);
 /// assert!((j - 0.24662).abs() < 1e-5);
 /// ```
-pub fn solid_cylinder_inertia_kg_m2(density_kg_per_m3: f64, radius_m: f64, length_m: f64) -> f64 {
-    hollow_cylinder_inertia_kg_m2(density_kg_per_m3, radius_m, 0.0, length_m)
+pub fn solid_cylinder_inertia_kg_m2<R: Real>(density_kg_per_m3: R, radius_m: R, length_m: R) -> R {
+    hollow_cylinder_inertia_kg_m2(density_kg_per_m3, radius_m, R::from(0.0), length_m)
 }
 
 /// Eq. 3.2: the torsional stiffness of a tube of length L, outer and inner diameters D and d,
@@ -101,15 +102,15 @@ pub fn solid_cylinder_inertia_kg_m2(density_kg_per_m3: f64, radius_m: f64, lengt
 /// let k = tube_torsional_stiffness_n_m_per_rad(STEEL_SHEAR_MODULUS_PA, 0.04, 0.03, 1.0);
 /// assert!((k - 13_916.3).abs() < 0.1);
 /// ```
-pub fn tube_torsional_stiffness_n_m_per_rad(shear_modulus_pa: f64, outer_diameter_m: f64, inner_diameter_m: f64, length_m: f64) -> f64 {
-    shear_modulus_pa * PI * (outer_diameter_m.powi(4) - inner_diameter_m.powi(4)) / (32.0 * length_m)
+pub fn tube_torsional_stiffness_n_m_per_rad<R: Real>(shear_modulus_pa: R, outer_diameter_m: R, inner_diameter_m: R, length_m: R) -> R {
+    shear_modulus_pa * PI * (outer_diameter_m.powi(4) - inner_diameter_m.powi(4)) / (length_m * 32.0)
 }
 
 /// Eq. 3.2 for a solid round shaft (no bore): K = G pi d^4 / (32 L), N m/rad (the example at the
 /// top of this module; [`TorsionBar::round_bar_stiffness_n_m_per_rad`](crate::TorsionBar::round_bar_stiffness_n_m_per_rad)
 /// is this one).
-pub fn shaft_torsional_stiffness_n_m_per_rad(shear_modulus_pa: f64, diameter_m: f64, length_m: f64) -> f64 {
-    tube_torsional_stiffness_n_m_per_rad(shear_modulus_pa, diameter_m, 0.0, length_m)
+pub fn shaft_torsional_stiffness_n_m_per_rad<R: Real>(shear_modulus_pa: R, diameter_m: R, length_m: R) -> R {
+    tube_torsional_stiffness_n_m_per_rad(shear_modulus_pa, diameter_m, R::from(0.0), length_m)
 }
 
 /// Area of a circle of a diameter (a rod's section, a piston's face), pi d^2 / 4, m2.
@@ -117,8 +118,8 @@ pub fn shaft_torsional_stiffness_n_m_per_rad(shear_modulus_pa: f64, diameter_m: 
 /// use components::geometry::circle_area_m2;
 /// assert!((circle_area_m2(0.014) - 1.53938e-4).abs() < 1e-9); // pi 0.007^2
 /// ```
-pub fn circle_area_m2(diameter_m: f64) -> f64 {
-    annulus_area_m2(diameter_m, 0.0)
+pub fn circle_area_m2<R: Real>(diameter_m: R) -> R {
+    annulus_area_m2(diameter_m, R::from(0.0))
 }
 
 /// Area of an annulus (a cylinder's rod-side piston face), pi (D^2 - d^2) / 4, m2.
@@ -127,8 +128,8 @@ pub fn circle_area_m2(diameter_m: f64) -> f64 {
 /// // A 40 mm piston on a 20 mm rod: pi (1.6e-3 - 4e-4) / 4 = 9.4248e-4 m2.
 /// assert!((annulus_area_m2(0.04, 0.02) - 9.4248e-4).abs() < 1e-8);
 /// ```
-pub fn annulus_area_m2(outer_diameter_m: f64, inner_diameter_m: f64) -> f64 {
-    PI * (outer_diameter_m * outer_diameter_m - inner_diameter_m * inner_diameter_m) / 4.0
+pub fn annulus_area_m2<R: Real>(outer_diameter_m: R, inner_diameter_m: R) -> R {
+    (outer_diameter_m * outer_diameter_m - inner_diameter_m * inner_diameter_m) * PI / 4.0
 }
 
 /// Axial stiffness of a bar in tension or compression (a tie rod), k = E A / L, N/m (Table 3.2:
@@ -139,7 +140,7 @@ pub fn annulus_area_m2(outer_diameter_m: f64, inner_diameter_m: f64) -> f64 {
 /// let k = axial_stiffness_n_per_m(STEEL_YOUNG_MODULUS_PA, circle_area_m2(0.014), 0.3);
 /// assert!((k / 1.0776e8 - 1.0).abs() < 1e-4);
 /// ```
-pub fn axial_stiffness_n_per_m(young_modulus_pa: f64, area_m2: f64, length_m: f64) -> f64 {
+pub fn axial_stiffness_n_per_m<R: Real>(young_modulus_pa: R, area_m2: R, length_m: R) -> R {
     young_modulus_pa * area_m2 / length_m
 }
 
@@ -152,7 +153,7 @@ pub fn axial_stiffness_n_per_m(young_modulus_pa: f64, area_m2: f64, length_m: f6
 /// assert!((c - 6.6667e-14).abs() < 1e-18);
 /// assert!((1e-7 / c - 15e5).abs() < 1e-3);
 /// ```
-pub fn fluid_capacitance_m3_per_pa(volume_m3: f64, bulk_modulus_pa: f64) -> f64 {
+pub fn fluid_capacitance_m3_per_pa<R: Real>(volume_m3: R, bulk_modulus_pa: R) -> R {
     volume_m3 / bulk_modulus_pa
 }
 
@@ -165,7 +166,7 @@ pub fn fluid_capacitance_m3_per_pa(volume_m3: f64, bulk_modulus_pa: f64) -> f64 
 /// let k = hydraulic_stiffness_n_per_m(2e-3, HYDRAULIC_OIL_BULK_MODULUS_PA, 1e-4);
 /// assert!((k - 6e7).abs() < 1e-3);
 /// ```
-pub fn hydraulic_stiffness_n_per_m(piston_area_m2: f64, bulk_modulus_pa: f64, volume_m3: f64) -> f64 {
+pub fn hydraulic_stiffness_n_per_m<R: Real>(piston_area_m2: R, bulk_modulus_pa: R, volume_m3: R) -> R {
     piston_area_m2 * piston_area_m2 / fluid_capacitance_m3_per_pa(volume_m3, bulk_modulus_pa)
 }
 
@@ -178,8 +179,8 @@ pub fn hydraulic_stiffness_n_per_m(piston_area_m2: f64, bulk_modulus_pa: f64, vo
 /// let r = laminar_pipe_resistance_pa_s_per_m3(0.012, 1.0, 0.004);
 /// assert!((r / 1.9099e9 - 1.0).abs() < 1e-4);
 /// ```
-pub fn laminar_pipe_resistance_pa_s_per_m3(dynamic_viscosity_pa_s: f64, length_m: f64, diameter_m: f64) -> f64 {
-    128.0 * dynamic_viscosity_pa_s * length_m / (PI * diameter_m.powi(4))
+pub fn laminar_pipe_resistance_pa_s_per_m3<R: Real>(dynamic_viscosity_pa_s: R, length_m: R, diameter_m: R) -> R {
+    dynamic_viscosity_pa_s * 128.0 * length_m / (diameter_m.powi(4) * PI)
 }
 
 /// Hydraulic resistance of the leakage gap between a piston (or a pump's barrel) and its bore:
@@ -194,8 +195,8 @@ pub fn laminar_pipe_resistance_pa_s_per_m3(dynamic_viscosity_pa_s: f64, length_m
 /// assert!((r / 3.4377e13 - 1.0).abs() < 1e-4);
 /// assert!((1e7 / r - 2.909e-7).abs() < 1e-10);
 /// ```
-pub fn annular_gap_resistance_pa_s_per_m3(dynamic_viscosity_pa_s: f64, length_m: f64, diameter_m: f64, clearance_m: f64) -> f64 {
-    12.0 * dynamic_viscosity_pa_s * length_m / (PI * diameter_m * clearance_m.powi(3))
+pub fn annular_gap_resistance_pa_s_per_m3<R: Real>(dynamic_viscosity_pa_s: R, length_m: R, diameter_m: R, clearance_m: R) -> R {
+    dynamic_viscosity_pa_s * 12.0 * length_m / (diameter_m * PI * clearance_m.powi(3))
 }
 
 /// Electrical resistance of a conductor of resistivity rho, length l and section A, R = rho l /
@@ -205,7 +206,7 @@ pub fn annular_gap_resistance_pa_s_per_m3(dynamic_viscosity_pa_s: f64, length_m:
 /// // 10 m of 1.5 mm2 copper: 1.68e-8 x 10 / 1.5e-6 = 0.112 Ohm.
 /// assert!((conductor_resistance_ohm(COPPER_RESISTIVITY_OHM_M, 10.0, 1.5e-6) - 0.112).abs() < 1e-12);
 /// ```
-pub fn conductor_resistance_ohm(resistivity_ohm_m: f64, length_m: f64, area_m2: f64) -> f64 {
+pub fn conductor_resistance_ohm<R: Real>(resistivity_ohm_m: R, length_m: R, area_m2: R) -> R {
     resistivity_ohm_m * length_m / area_m2
 }
 
@@ -217,8 +218,8 @@ pub fn conductor_resistance_ohm(resistivity_ohm_m: f64, length_m: f64, area_m2: 
 /// // 1000 turns on 1 cm2 over 100 mm: 4 pi 1e-7 x 1e6 x 1e-4 / 0.1 = 1.2566 mH.
 /// assert!((solenoid_inductance_h(1000.0, 1e-4, 0.1) - 1.25664e-3).abs() < 1e-8);
 /// ```
-pub fn solenoid_inductance_h(turns: f64, area_m2: f64, length_m: f64) -> f64 {
-    turns * turns * Reluctance::uniform(length_m, area_m2, 1.0).permeance_h()
+pub fn solenoid_inductance_h<R: Real>(turns: R, area_m2: R, length_m: R) -> R {
+    turns * turns * Reluctance::uniform(length_m, area_m2, R::from(1.0)).permeance_h()
 }
 
 /// Thermal resistance of a plane wall of thickness e, conductivity lambda and area A, R = e /
@@ -228,8 +229,8 @@ pub fn solenoid_inductance_h(turns: f64, area_m2: f64, length_m: f64) -> f64 {
 /// // 10 mm of steel (50 W/(m K)) over 0.2 m2: 0.01 / (50 x 0.2) = 1e-3 K/W.
 /// assert!((plane_wall_thermal_resistance_k_per_w(0.01, 50.0, 0.2) - 1e-3).abs() < 1e-15);
 /// ```
-pub fn plane_wall_thermal_resistance_k_per_w(thickness_m: f64, conductivity_w_per_m_k: f64, area_m2: f64) -> f64 {
-    1.0 / ThermalConductance::through_layer(thickness_m, conductivity_w_per_m_k, area_m2).conductance_w_per_k
+pub fn plane_wall_thermal_resistance_k_per_w<R: Real>(thickness_m: R, conductivity_w_per_m_k: R, area_m2: R) -> R {
+    R::from(1.0) / ThermalConductance::through_layer(thickness_m, conductivity_w_per_m_k, area_m2).conductance_w_per_k
 }
 
 /// Heat capacity of a body, C = m c, J/K (Table 3.2; the capacity of a [`ThermalNode`]).
@@ -237,7 +238,7 @@ pub fn plane_wall_thermal_resistance_k_per_w(thickness_m: f64, conductivity_w_pe
 /// use components::geometry::heat_capacity_j_per_k;
 /// assert_eq!(heat_capacity_j_per_k(10.0, 385.0), 3850.0); // 10 kg of copper, c = 385 J/(kg K)
 /// ```
-pub fn heat_capacity_j_per_k(mass_kg: f64, specific_heat_j_per_kg_k: f64) -> f64 {
+pub fn heat_capacity_j_per_k<R: Real>(mass_kg: R, specific_heat_j_per_kg_k: R) -> R {
     ThermalNode::of_mass(mass_kg, specific_heat_j_per_kg_k).heat_capacity_j_per_k
 }
 

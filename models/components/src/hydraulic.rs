@@ -8,6 +8,7 @@
 //! its bulk modulus B (a C element of capacitance V/B). Dissipation: a laminar leakage (Q = dp/R)
 //! and a turbulent orifice (Q = Cd A sqrt(2 |dp| / rho)).
 
+use fmu_runtime::real::Real;
 use crate::geometry;
 use fmu_runtime::elements::{Domain, Effect, Kind};
 use std::f64::consts::PI;
@@ -17,7 +18,7 @@ use std::f64::consts::PI;
 /// use components::hydraulic::flow_from_l_per_min;
 /// assert!((flow_from_l_per_min(60.0) - 1e-3).abs() < 1e-18); // 60 L/min = 1 L/s
 /// ```
-pub fn flow_from_l_per_min(litres_per_minute: f64) -> f64 {
+pub fn flow_from_l_per_min<R: Real>(litres_per_minute: R) -> R {
     litres_per_minute * 1e-3 / 60.0
 }
 
@@ -40,14 +41,14 @@ pub fn flow_from_l_per_min(litres_per_minute: f64) -> f64 {
 /// assert!((t * w - 20.7e6 * pump.flow_m3_per_s(w)).abs() < 1e-9 * t * w);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FixedDisplacementPump {
+pub struct FixedDisplacementPump<R = f64> {
     /// D, m3/rad (the data sheets' cm3/rev divided by 2 pi, times 1e-6).
-    pub displacement_m3_per_rad: f64,
+    pub displacement_m3_per_rad: R,
 }
 
 /// A fixed-displacement hydraulic motor: the pump's two equations with the power flowing the other
 /// way (T = D dp on its shaft from the pressure drop dp across it, Q = D w through it).
-pub type FixedDisplacementMotor = FixedDisplacementPump;
+pub type FixedDisplacementMotor<R = f64> = FixedDisplacementPump<R>;
 
 impl FixedDisplacementPump {
     /// Its effect as a pump (Table 3.5): a lossless transformer from rotation to hydraulics.
@@ -56,34 +57,36 @@ impl FixedDisplacementPump {
     /// Its effect as a hydraulic motor: the same transformer, from hydraulics to rotation.
     pub const MOTOR: Effect =
         Effect { domains: &[Domain::Hydraulic, Domain::Rotational], kind: Kind::Transformer, what: "fixed-displacement motor (T = D dp, Q = D w)" };
+}
 
+impl<R: Real> FixedDisplacementPump<R> {
     /// The machine of a displacement given in cm3 per revolution (data sheets).
-    pub fn from_cm3_per_rev(displacement_cm3_per_rev: f64) -> Self {
+    pub fn from_cm3_per_rev(displacement_cm3_per_rev: R) -> Self {
         FixedDisplacementPump { displacement_m3_per_rad: displacement_cm3_per_rev * 1e-6 / (2.0 * PI) }
     }
 
     /// The displacement in cm3 per revolution.
-    pub fn displacement_cm3_per_rev(&self) -> f64 {
+    pub fn displacement_cm3_per_rev(&self) -> R {
         self.displacement_m3_per_rad * 2.0 * PI * 1e6
     }
 
     /// Q = D w, m3/s.
-    pub fn flow_m3_per_s(&self, speed_rad_per_s: f64) -> f64 {
+    pub fn flow_m3_per_s(&self, speed_rad_per_s: R) -> R {
         self.displacement_m3_per_rad * speed_rad_per_s
     }
 
     /// T = D dp, N m: the torque the pump takes from its shaft (a motor gives it).
-    pub fn torque_n_m(&self, pressure_difference_pa: f64) -> f64 {
+    pub fn torque_n_m(&self, pressure_difference_pa: R) -> R {
         self.displacement_m3_per_rad * pressure_difference_pa
     }
 
     /// w = Q / D, rad/s: the speed that passes a flow.
-    pub fn speed_rad_per_s(&self, flow_m3_per_s: f64) -> f64 {
+    pub fn speed_rad_per_s(&self, flow_m3_per_s: R) -> R {
         flow_m3_per_s / self.displacement_m3_per_rad
     }
 
     /// dp = T / D, Pa: the pressure difference that balances a shaft torque.
-    pub fn pressure_difference_pa(&self, torque_n_m: f64) -> f64 {
+    pub fn pressure_difference_pa(&self, torque_n_m: R) -> R {
         torque_n_m / self.displacement_m3_per_rad
     }
 }
@@ -102,38 +105,40 @@ impl FixedDisplacementPump {
 /// assert!((jack.force_n(dp) * v - dp * jack.flow_m3_per_s(v)).abs() < 1e-9); // F v = dp Q
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DoubleActingCylinder {
+pub struct DoubleActingCylinder<R = f64> {
     /// A, m2: the piston's area on either side.
-    pub piston_area_m2: f64,
+    pub piston_area_m2: R,
 }
 
 impl DoubleActingCylinder {
     /// Its effect (Table 3.5): a lossless transformer from hydraulics to translation.
     pub const TRANSFORMER: Effect =
         Effect { domains: &[Domain::Hydraulic, Domain::Translational], kind: Kind::Transformer, what: "double-acting cylinder (F = A dp, Q = A v)" };
+}
 
+impl<R: Real> DoubleActingCylinder<R> {
     /// The cylinder of a bore and a through rod of these diameters: A = pi/4 (d_bore^2 - d_rod^2).
-    pub fn through_rod(bore_m: f64, rod_m: f64) -> Self {
+    pub fn through_rod(bore_m: R, rod_m: R) -> Self {
         DoubleActingCylinder { piston_area_m2: geometry::annulus_area_m2(bore_m, rod_m) }
     }
 
     /// F = A dp, N.
-    pub fn force_n(&self, pressure_difference_pa: f64) -> f64 {
+    pub fn force_n(&self, pressure_difference_pa: R) -> R {
         self.piston_area_m2 * pressure_difference_pa
     }
 
     /// Q = A v, m3/s: the flow the piston displaces at a speed.
-    pub fn flow_m3_per_s(&self, speed_m_per_s: f64) -> f64 {
+    pub fn flow_m3_per_s(&self, speed_m_per_s: R) -> R {
         self.piston_area_m2 * speed_m_per_s
     }
 
     /// v = Q / A, m/s.
-    pub fn speed_m_per_s(&self, flow_m3_per_s: f64) -> f64 {
+    pub fn speed_m_per_s(&self, flow_m3_per_s: R) -> R {
         flow_m3_per_s / self.piston_area_m2
     }
 
     /// dp = F / A, Pa: the pressure difference that holds a force.
-    pub fn pressure_difference_pa(&self, force_n: f64) -> f64 {
+    pub fn pressure_difference_pa(&self, force_n: R) -> R {
         force_n / self.piston_area_m2
     }
 
@@ -147,8 +152,8 @@ impl DoubleActingCylinder {
     /// let k = jack.hydraulic_stiffness_n_per_m(&chamber, &chamber);
     /// assert!((k - 2.0 * 1e-6 * 1.5e9 / 1e-4).abs() < 1e-6 * k); // 3e7 N/m
     /// ```
-    pub fn hydraulic_stiffness_n_per_m(&self, chamber_a: &FluidVolume, chamber_b: &FluidVolume) -> f64 {
-        let column = |c: &FluidVolume| geometry::hydraulic_stiffness_n_per_m(self.piston_area_m2, c.bulk_modulus_pa, c.volume_m3);
+    pub fn hydraulic_stiffness_n_per_m(&self, chamber_a: &FluidVolume<R>, chamber_b: &FluidVolume<R>) -> R {
+        let column = |c: &FluidVolume<R>| geometry::hydraulic_stiffness_n_per_m(self.piston_area_m2, c.bulk_modulus_pa, c.volume_m3);
         column(chamber_a) + column(chamber_b)
     }
 }
@@ -170,32 +175,34 @@ impl DoubleActingCylinder {
 /// assert!((chamber.power_w(p, chamber.pressure_rate_pa_per_s(q)) - p * q).abs() < 1e-9);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FluidVolume {
-    pub volume_m3: f64,
-    pub bulk_modulus_pa: f64,
+pub struct FluidVolume<R = f64> {
+    pub volume_m3: R,
+    pub bulk_modulus_pa: R,
 }
 
 impl FluidVolume {
     /// Its effect (Table 3.1): capacitive storage in hydraulics, the oil's compressibility.
     pub const COMPRESSIBILITY: Effect = Effect { domains: &[Domain::Hydraulic], kind: Kind::StorageC, what: "oil compressibility (C = V/B)" };
+}
 
+impl<R: Real> FluidVolume<R> {
     /// C = V / B, m3/Pa.
-    pub fn capacitance_m3_per_pa(&self) -> f64 {
+    pub fn capacitance_m3_per_pa(&self) -> R {
         geometry::fluid_capacitance_m3_per_pa(self.volume_m3, self.bulk_modulus_pa)
     }
 
     /// dp/dt = Q_net / C, Pa/s, under a net inflow.
-    pub fn pressure_rate_pa_per_s(&self, net_inflow_m3_per_s: f64) -> f64 {
+    pub fn pressure_rate_pa_per_s(&self, net_inflow_m3_per_s: R) -> R {
         net_inflow_m3_per_s / self.capacitance_m3_per_pa()
     }
 
     /// Stored energy C p^2 / 2, J (from p = 0).
-    pub fn energy_j(&self, pressure_pa: f64) -> f64 {
-        0.5 * self.capacitance_m3_per_pa() * pressure_pa * pressure_pa
+    pub fn energy_j(&self, pressure_pa: R) -> R {
+        self.capacitance_m3_per_pa() * 0.5 * pressure_pa * pressure_pa
     }
 
     /// Power stored per second, C p dp/dt, W.
-    pub fn power_w(&self, pressure_pa: f64, pressure_rate_pa_per_s: f64) -> f64 {
+    pub fn power_w(&self, pressure_pa: R, pressure_rate_pa_per_s: R) -> R {
         self.capacitance_m3_per_pa() * pressure_pa * pressure_rate_pa_per_s
     }
 
@@ -214,7 +221,7 @@ impl FluidVolume {
     /// let stored = chamber.energy_j(p0 + dp / 2.0) + chamber.energy_j(p0 - dp / 2.0) - 2.0 * chamber.energy_j(p0);
     /// assert!((stored - load.energy_j(dp)).abs() < 1e-12);
     /// ```
-    pub fn in_series(&self, other: &FluidVolume) -> FluidVolume {
+    pub fn in_series(&self, other: &FluidVolume<R>) -> FluidVolume<R> {
         let (ca, cb) = (self.capacitance_m3_per_pa(), other.capacitance_m3_per_pa());
         FluidVolume { volume_m3: ca * cb / (ca + cb) * self.bulk_modulus_pa, bulk_modulus_pa: self.bulk_modulus_pa }
     }
@@ -231,27 +238,29 @@ impl FluidVolume {
 /// assert!((leak.power_w(20.7e6) - 20.7e6 * flow_from_l_per_min(0.5)).abs() < 1e-9); // 172.5 W
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LaminarLeakage {
+pub struct LaminarLeakage<R = f64> {
     /// R = dp / Q, Pa s/m3.
-    pub resistance_pa_s_per_m3: f64,
+    pub resistance_pa_s_per_m3: R,
 }
 
 impl LaminarLeakage {
     /// Its effect (Table 3.1): a hydraulic dissipation.
     pub const LEAKAGE: Effect = Effect { domains: &[Domain::Hydraulic], kind: Kind::Dissipation, what: "laminar leakage (Q = dp/R)" };
+}
 
+impl<R: Real> LaminarLeakage<R> {
     /// The leakage that passes `flow_m3_per_s` under `pressure_difference_pa` (a data sheet's point).
-    pub fn from_flow_at(flow_m3_per_s: f64, pressure_difference_pa: f64) -> Self {
+    pub fn from_flow_at(flow_m3_per_s: R, pressure_difference_pa: R) -> Self {
         LaminarLeakage { resistance_pa_s_per_m3: pressure_difference_pa / flow_m3_per_s }
     }
 
     /// Q = dp / R, m3/s, from the high to the low pressure.
-    pub fn flow_m3_per_s(&self, pressure_difference_pa: f64) -> f64 {
+    pub fn flow_m3_per_s(&self, pressure_difference_pa: R) -> R {
         pressure_difference_pa / self.resistance_pa_s_per_m3
     }
 
     /// Power dissipated, dp^2 / R, W (never negative).
-    pub fn power_w(&self, pressure_difference_pa: f64) -> f64 {
+    pub fn power_w(&self, pressure_difference_pa: R) -> R {
         pressure_difference_pa * pressure_difference_pa / self.resistance_pa_s_per_m3
     }
 }
@@ -269,31 +278,33 @@ impl LaminarLeakage {
 /// assert!((orifice.power_w(2e6) - 2e6 * q).abs() < 1e-12);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Orifice {
-    pub discharge_coefficient: f64,
-    pub area_m2: f64,
-    pub density_kg_per_m3: f64,
+pub struct Orifice<R = f64> {
+    pub discharge_coefficient: R,
+    pub area_m2: R,
+    pub density_kg_per_m3: R,
 }
 
 impl Orifice {
     /// Its effect (Table 3.1): a hydraulic dissipation, quadratic in the flow.
     pub const RESTRICTION: Effect =
         Effect { domains: &[Domain::Hydraulic], kind: Kind::Dissipation, what: "turbulent orifice (Q = Cd A sqrt(2 |dp| / rho))" };
+}
 
+impl<R: Real> Orifice<R> {
     /// Q = Cd A sqrt(2 |dp| / rho) sign(dp), m3/s.
-    pub fn flow_m3_per_s(&self, pressure_difference_pa: f64) -> f64 {
+    pub fn flow_m3_per_s(&self, pressure_difference_pa: R) -> R {
         let dp = pressure_difference_pa;
-        self.discharge_coefficient * self.area_m2 * (2.0 * dp.abs() / self.density_kg_per_m3).sqrt() * dp.signum()
+        self.discharge_coefficient * self.area_m2 * (dp.abs() * 2.0 / self.density_kg_per_m3).sqrt() * dp.signum()
     }
 
     /// The pressure drop that passes a flow, rho/2 (Q / (Cd A))^2 sign(Q), Pa.
-    pub fn pressure_drop_pa(&self, flow_m3_per_s: f64) -> f64 {
+    pub fn pressure_drop_pa(&self, flow_m3_per_s: R) -> R {
         let jet = flow_m3_per_s / (self.discharge_coefficient * self.area_m2);
-        0.5 * self.density_kg_per_m3 * jet * jet.abs()
+        self.density_kg_per_m3 * 0.5 * jet * jet.abs()
     }
 
     /// Power dissipated, dp Q, W (never negative).
-    pub fn power_w(&self, pressure_difference_pa: f64) -> f64 {
+    pub fn power_w(&self, pressure_difference_pa: R) -> R {
         pressure_difference_pa * self.flow_m3_per_s(pressure_difference_pa)
     }
 }

@@ -6,8 +6,10 @@
 //!   state is exactly the equivalent circuit's.
 
 use crate::complex::Complex;
+use crate::roots::{bisect, with_derivatives, with_derivatives_of};
 use fmu_runtime::elements::{Domain, Effect, Kind};
-use crate::roots::bisect;
+use fmu_runtime::real::Real;
+use std::cell::Cell;
 use std::f64::consts::{PI, SQRT_2};
 
 /// Parameters of a three-phase, star-connected induction machine.
@@ -25,50 +27,50 @@ use std::f64::consts::{PI, SQRT_2};
 /// assert!(breakdown > motor.steady_state_at_slip(1.0).torque_n_m); // above the locked-rotor torque
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct InductionMachine {
-    pub stator_resistance_ohm: f64,
-    pub rotor_resistance_ohm: f64,
-    pub stator_leakage_h: f64,
-    pub rotor_leakage_h: f64,
-    pub magnetizing_h: f64,
-    pub pole_pairs: f64,
+pub struct InductionMachine<R = f64> {
+    pub stator_resistance_ohm: R,
+    pub rotor_resistance_ohm: R,
+    pub stator_leakage_h: R,
+    pub rotor_leakage_h: R,
+    pub magnetizing_h: R,
+    pub pole_pairs: R,
     /// Supply voltage, line to line, rms.
-    pub line_voltage_rms_v: f64,
-    pub frequency_hz: f64,
+    pub line_voltage_rms_v: R,
+    pub frequency_hz: R,
 }
 
 /// The machine at one speed in steady state.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SteadyState {
-    pub slip: f64,
-    pub torque_n_m: f64,
-    pub stator_current_rms_a: f64,
+pub struct SteadyState<R = f64> {
+    pub slip: R,
+    pub torque_n_m: R,
+    pub stator_current_rms_a: R,
     /// Active power drawn from the supply, W.
-    pub electrical_power_w: f64,
+    pub electrical_power_w: R,
 }
 
 /// Stator and rotor flux linkages in the synchronous frame (d along the stator voltage), Wb,
 /// peak-value (amplitude-invariant) scaling.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Fluxes {
-    pub stator_d: f64,
-    pub stator_q: f64,
-    pub rotor_d: f64,
-    pub rotor_q: f64,
+pub struct Fluxes<R = f64> {
+    pub stator_d: R,
+    pub stator_q: R,
+    pub rotor_d: R,
+    pub rotor_q: R,
 }
 
 /// What the dq model gives at one instant.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DqResponse {
-    pub flux_rates: Fluxes,
-    pub torque_n_m: f64,
-    pub stator_current_rms_a: f64,
-    pub electrical_power_w: f64,
+pub struct DqResponse<R = f64> {
+    pub flux_rates: Fluxes<R>,
+    pub torque_n_m: R,
+    pub stator_current_rms_a: R,
+    pub electrical_power_w: R,
     /// Power the stator and rotor resistances dissipate, 3/2 (R_s |i_s|^2 + R_r |i_r|^2), W.
-    pub winding_loss_w: f64,
+    pub winding_loss_w: R,
     /// Rate of the magnetic energy of the windings, 3/2 (i_s . dpsi_s/dt + i_r . dpsi_r/dt), W:
     /// the electrical power minus the losses minus the mechanical power T w.
-    pub magnetic_power_w: f64,
+    pub magnetic_power_w: R,
 }
 
 impl InductionMachine {
@@ -81,27 +83,29 @@ impl InductionMachine {
     pub const WINDING_RESISTANCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Dissipation, what: "winding resistance" };
     /// The grid's voltage source that feeds it.
     pub const SUPPLY: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Source, what: "voltage source" };
+}
 
+impl<R: Real> InductionMachine<R> {
     /// Electrical angular frequency of the supply, rad/s.
-    pub fn supply_angular_frequency(&self) -> f64 {
-        2.0 * PI * self.frequency_hz
+    pub fn supply_angular_frequency(&self) -> R {
+        self.frequency_hz * (2.0 * PI)
     }
 
     /// Synchronous mechanical speed, rad/s.
-    pub fn synchronous_speed_rad_per_s(&self) -> f64 {
+    pub fn synchronous_speed_rad_per_s(&self) -> R {
         self.supply_angular_frequency() / self.pole_pairs
     }
 
-    pub fn phase_voltage_rms_v(&self) -> f64 {
+    pub fn phase_voltage_rms_v(&self) -> R {
         self.line_voltage_rms_v / 3f64.sqrt()
     }
 
-    pub fn slip(&self, speed_rad_per_s: f64) -> f64 {
-        1.0 - speed_rad_per_s / self.synchronous_speed_rad_per_s()
+    pub fn slip(&self, speed_rad_per_s: R) -> R {
+        R::from(1.0) - speed_rad_per_s / self.synchronous_speed_rad_per_s()
     }
 
     /// Steady state at a mechanical speed, from the T-equivalent circuit.
-    pub fn steady_state(&self, speed_rad_per_s: f64) -> SteadyState {
+    pub fn steady_state(&self, speed_rad_per_s: R) -> SteadyState<R> {
         self.steady_state_at_slip(self.slip(speed_rad_per_s))
     }
 
@@ -111,36 +115,37 @@ impl InductionMachine {
     /// E = Z_s D + Z_m Z_r, I_s = V / (Z_s + Z_m Z_r / D) = V D / E and the rotor branch's share
     /// I_r = I_s Z_m / D = V Z_m / E (the same algebra as Z_s + Z_m || Z_r, three divisions
     /// fewer: this runs at every evaluation of levels a-c).
-    pub fn steady_state_at_slip(&self, slip: f64) -> SteadyState {
+    pub fn steady_state_at_slip(&self, slip: R) -> SteadyState<R> {
+        let zero = R::from(0.0);
         let w = self.supply_angular_frequency();
-        let v = Complex::new(self.phase_voltage_rms_v(), 0.0);
+        let v = Complex::new(self.phase_voltage_rms_v(), zero);
         let z_s = Complex::new(self.stator_resistance_ohm, w * self.stator_leakage_h);
-        let z_m = Complex::new(0.0, w * self.magnetizing_h);
+        let z_m = Complex::new(zero, w * self.magnetizing_h);
         if slip == 0.0 {
             let i_s = v / (z_s + z_m);
-            return SteadyState { slip, torque_n_m: 0.0, stator_current_rms_a: i_s.abs(), electrical_power_w: 3.0 * (v * i_s.conj()).re };
+            return SteadyState { slip, torque_n_m: zero, stator_current_rms_a: i_s.abs(), electrical_power_w: (v * i_s.conj()).re * 3.0 };
         }
         let z_r = Complex::new(self.rotor_resistance_ohm / slip, w * self.rotor_leakage_h);
         let e = z_s * (z_m + z_r) + z_m * z_r;
         let v_over_e = v / e;
         let i_s = v_over_e * (z_m + z_r);
         let i_r = v_over_e * z_m;
-        let air_gap_power = 3.0 * i_r.norm_sqr() * self.rotor_resistance_ohm / slip;
+        let air_gap_power = i_r.norm_sqr() * 3.0 * self.rotor_resistance_ohm / slip;
         SteadyState {
             slip,
             torque_n_m: air_gap_power / self.synchronous_speed_rad_per_s(),
             stator_current_rms_a: i_s.abs(),
-            electrical_power_w: 3.0 * (v * i_s.conj()).re,
+            electrical_power_w: (v * i_s.conj()).re * 3.0,
         }
     }
 
     /// The slip of maximum (breakdown) torque. Seen from the rotor branch, the stator and the
     /// magnetising branch are a Thevenin source of impedance R_th + j X_th (exactly, the circuit
     /// being linear), so the air-gap power peaks where R_r/s = |R_th + j (X_th + X_r)|.
-    pub fn breakdown_slip(&self) -> f64 {
+    pub fn breakdown_slip(&self) -> R {
         let w = self.supply_angular_frequency();
         let z_s = Complex::new(self.stator_resistance_ohm, w * self.stator_leakage_h);
-        let z_m = Complex::new(0.0, w * self.magnetizing_h);
+        let z_m = Complex::new(R::from(0.0), w * self.magnetizing_h);
         let z_th = z_s.parallel(z_m);
         self.rotor_resistance_ohm / Complex::new(z_th.re, z_th.im + w * self.rotor_leakage_h).abs()
     }
@@ -148,29 +153,49 @@ impl InductionMachine {
     /// The stable operating speed under a load torque curve (the speed between breakdown and
     /// synchronism where motor and load torques balance), or None if the load exceeds the
     /// breakdown torque there (the motor stalls).
-    pub fn stable_speed_rad_per_s(&self, load_torque_n_m: impl Fn(f64) -> f64) -> Option<f64> {
+    ///
+    /// The speed is found on values (bisection); its derivatives, where the scalar carries
+    /// them, are those of the balance's implicit function ([`with_derivatives`]).
+    pub fn stable_speed_rad_per_s(&self, load_torque_n_m: impl Fn(R) -> R) -> Option<R> {
         let w_sync = self.synchronous_speed_rad_per_s();
-        let excess = |w: f64| self.steady_state(w).torque_n_m - load_torque_n_m(w);
-        let (lo, hi) = (w_sync * (1.0 - self.breakdown_slip()), w_sync);
+        let excess = |w: R| self.steady_state(w).torque_n_m - load_torque_n_m(w);
+        let (lo, hi) = (w_sync * (R::from(1.0) - self.breakdown_slip()), w_sync);
         if excess(lo) < 0.0 {
             return None;
         }
         if excess(hi) >= 0.0 {
             return Some(hi);
         }
-        Some(bisect(lo, hi, 80, |w| excess(w) >= 0.0))
+        let root = bisect(lo.value(), hi.value(), 80, |w| excess(R::from(w)) >= 0.0);
+        Some(with_derivatives(root, (hi - lo).value(), excess))
     }
 
     /// The slip, on the stable branch, at which the machine gives `torque` (clamped to the
     /// breakdown torque): how a converter at rated flux (constant V/f) runs it.
-    pub fn stable_slip_for_torque(&self, torque_n_m: f64) -> f64 {
+    ///
+    /// Found on values (bisection); its derivatives, where the scalar carries them (the torque's,
+    /// the machine's), are those of the implicit function T(s) = |torque|
+    /// ([`with_derivatives`]), and beyond the breakdown torque, where the slip stays at the
+    /// breakdown slip, those of the breakdown slip.
+    pub fn stable_slip_for_torque(&self, torque_n_m: R) -> R {
         let s_bd = self.breakdown_slip();
         let target = torque_n_m.abs();
-        bisect(0.0, s_bd, 60, |s| self.steady_state_at_slip(s).torque_n_m < target) * torque_n_m.signum()
+        let clamped = Cell::new(true);
+        let root = bisect(0.0, s_bd.value(), 60, |s| {
+            let below = self.steady_state_at_slip(R::from(s)).torque_n_m < target;
+            clamped.set(clamped.get() && below);
+            below
+        });
+        let slip = if clamped.get() {
+            with_derivatives_of(root, s_bd)
+        } else {
+            with_derivatives(root, s_bd.value(), |s: R| self.steady_state_at_slip(s).torque_n_m - target)
+        };
+        slip * torque_n_m.signum()
     }
 
     /// Self inductances and the determinant of the flux-current relation.
-    fn inductances(&self) -> (f64, f64, f64) {
+    fn inductances(&self) -> (R, R, R) {
         let l_s = self.stator_leakage_h + self.magnetizing_h;
         let l_r = self.rotor_leakage_h + self.magnetizing_h;
         (l_s, l_r, l_s * l_r - self.magnetizing_h * self.magnetizing_h)
@@ -179,7 +204,7 @@ impl InductionMachine {
     /// The dq model at a rotor speed: flux derivatives, torque, current and power.
     /// d psi_s/dt = v_s - R_s i_s - j w_s psi_s;  d psi_r/dt = -R_r i_r - j (w_s - p w_m) psi_r;
     /// T = 3/2 p (psi_sd i_sq - psi_sq i_sd), with the stator voltage on the d axis at its peak value.
-    pub fn dq_response(&self, psi: Fluxes, speed_rad_per_s: f64) -> DqResponse {
+    pub fn dq_response(&self, psi: Fluxes<R>, speed_rad_per_s: R) -> DqResponse<R> {
         let (l_s, l_r, det) = self.inductances();
         let l_m = self.magnetizing_h;
         let i_sd = (l_r * psi.stator_d - l_m * psi.rotor_d) / det;
@@ -188,7 +213,7 @@ impl InductionMachine {
         let i_rq = (l_s * psi.rotor_q - l_m * psi.stator_q) / det;
         let w_s = self.supply_angular_frequency();
         let w_slip = w_s - self.pole_pairs * speed_rad_per_s;
-        let v_sd = SQRT_2 * self.phase_voltage_rms_v();
+        let v_sd = self.phase_voltage_rms_v() * SQRT_2;
         let rates = Fluxes {
             stator_d: v_sd - self.stator_resistance_ohm * i_sd + w_s * psi.stator_q,
             stator_q: -self.stator_resistance_ohm * i_sq - w_s * psi.stator_d,
@@ -197,11 +222,11 @@ impl InductionMachine {
         };
         DqResponse {
             flux_rates: rates,
-            torque_n_m: 1.5 * self.pole_pairs * (psi.stator_d * i_sq - psi.stator_q * i_sd),
+            torque_n_m: self.pole_pairs * 1.5 * (psi.stator_d * i_sq - psi.stator_q * i_sd),
             stator_current_rms_a: i_sd.hypot(i_sq) / SQRT_2,
-            electrical_power_w: 1.5 * v_sd * i_sd,
-            winding_loss_w: 1.5 * (self.stator_resistance_ohm * (i_sd * i_sd + i_sq * i_sq) + self.rotor_resistance_ohm * (i_rd * i_rd + i_rq * i_rq)),
-            magnetic_power_w: 1.5 * (i_sd * rates.stator_d + i_sq * rates.stator_q + i_rd * rates.rotor_d + i_rq * rates.rotor_q),
+            electrical_power_w: v_sd * 1.5 * i_sd,
+            winding_loss_w: (self.stator_resistance_ohm * (i_sd * i_sd + i_sq * i_sq) + self.rotor_resistance_ohm * (i_rd * i_rd + i_rq * i_rq)) * 1.5,
+            magnetic_power_w: (i_sd * rates.stator_d + i_sq * rates.stator_q + i_rd * rates.rotor_d + i_rq * rates.rotor_q) * 1.5,
         }
     }
 }

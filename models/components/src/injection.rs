@@ -4,6 +4,7 @@
 //! spring-loaded poppet of a pressure-control (relief) valve, and the injector's needle and nozzle.
 //! Effort = pressure (Pa), flow = volume flow (m3/s), as in [`crate::hydraulic`].
 
+use fmu_runtime::real::Real;
 use crate::hydraulic::{FluidVolume, Orifice};
 use fmu_runtime::elements::{Domain, Effect, Kind};
 use std::f64::consts::PI;
@@ -31,34 +32,34 @@ pub const DIESEL_DENSITY_KG_PER_M3: f64 = 830.0;
 /// assert!((slope - p * rail.capacitance_m3_per_pa()).abs() < 1e-9 * slope);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LinearBulkModulus {
+pub struct LinearBulkModulus<R = f64> {
     /// B0, Pa: the bulk modulus at p = 0 (gauge).
-    pub at_zero_pa: f64,
+    pub at_zero_pa: R,
     /// K' = dB/dp, dimensionless.
-    pub slope: f64,
+    pub slope: R,
 }
 
-impl LinearBulkModulus {
+impl<R: Real> LinearBulkModulus<R> {
     /// B(p) = B0 + K' p, Pa.
-    pub fn bulk_modulus_pa(&self, pressure_pa: f64) -> f64 {
+    pub fn bulk_modulus_pa(&self, pressure_pa: R) -> R {
         self.at_zero_pa + self.slope * pressure_pa
     }
 
     /// The volume `volume_m3` of this fluid seen at `pressure_pa`: a [`FluidVolume`] of the
     /// tangent bulk modulus there (its capacitance V / B(p), its pressure rate Q_net / C, its
     /// power C p dp/dt = p Q_net).
-    pub fn volume(&self, volume_m3: f64, pressure_pa: f64) -> FluidVolume {
+    pub fn volume(&self, volume_m3: R, pressure_pa: R) -> FluidVolume<R> {
         FluidVolume { volume_m3, bulk_modulus_pa: self.bulk_modulus_pa(pressure_pa) }
     }
 
     /// Energy stored from p = 0 in `volume_m3`, J: integral of p V / (B0 + K' p) dp =
     /// V / K' (p - B0 / K' ln(1 + K' p / B0)); V p^2 / (2 B0) when K' = 0.
-    pub fn energy_j(&self, volume_m3: f64, pressure_pa: f64) -> f64 {
+    pub fn energy_j(&self, volume_m3: R, pressure_pa: R) -> R {
         let (b0, k, p) = (self.at_zero_pa, self.slope, pressure_pa);
         let u = k * p / b0;
         if u.abs() < 1e-4 {
             // The series of u - ln(1 + u), to keep the digits a difference would lose.
-            volume_m3 * p * p / b0 * (0.5 - u / 3.0 + u * u / 4.0 - u * u * u / 5.0)
+            volume_m3 * p * p / b0 * (R::from(0.5) - u / 3.0 + u * u / 4.0 - u * u * u / 5.0)
         } else {
             volume_m3 / k * (p - b0 / k * u.ln_1p())
         }
@@ -94,9 +95,9 @@ impl LinearBulkModulus {
 /// assert!((t * w - (p_out * q - p_in * q_in)).abs() < 1e-9 * t * w);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RadialPistonPump {
-    pub plunger_area_m2: f64,
-    pub eccentricity_m: f64,
+pub struct RadialPistonPump<R = f64> {
+    pub plunger_area_m2: R,
+    pub eccentricity_m: R,
     pub plungers: usize,
 }
 
@@ -108,37 +109,39 @@ impl RadialPistonPump {
         kind: Kind::Transformer,
         what: "radial-piston pump (Q = A e w sin phi on each rising plunger, T = A e p sin phi)",
     };
+}
 
+impl<R: Real> RadialPistonPump<R> {
     /// The CP1/CP3 layout: three plungers 120 degrees apart, of `plunger_diameter_m`, on an
     /// eccentric of `eccentricity_m` (stroke 2 e).
-    pub fn three_plungers(plunger_diameter_m: f64, eccentricity_m: f64) -> Self {
+    pub fn three_plungers(plunger_diameter_m: R, eccentricity_m: R) -> Self {
         RadialPistonPump { plunger_area_m2: crate::geometry::circle_area_m2(plunger_diameter_m), eccentricity_m, plungers: 3 }
     }
 
     /// Volume displaced per shaft revolution, 2 e A n, m3.
-    pub fn displacement_m3_per_rev(&self) -> f64 {
-        2.0 * self.eccentricity_m * self.plunger_area_m2 * self.plungers as f64
+    pub fn displacement_m3_per_rev(&self) -> R {
+        self.eccentricity_m * 2.0 * self.plunger_area_m2 * self.plungers as f64
     }
 
     /// The mean delivery at a shaft speed, 2 e A n w / 2 pi, m3/s.
-    pub fn mean_flow_m3_per_s(&self, speed_rad_per_s: f64) -> f64 {
+    pub fn mean_flow_m3_per_s(&self, speed_rad_per_s: R) -> R {
         self.displacement_m3_per_rev() * speed_rad_per_s / (2.0 * PI)
     }
 
     /// Plunger k's angle on the eccentric, phi - 2 pi k / n, rad.
-    pub fn plunger_angle_rad(&self, plunger: usize, shaft_angle_rad: f64) -> f64 {
+    pub fn plunger_angle_rad(&self, plunger: usize, shaft_angle_rad: R) -> R {
         shaft_angle_rad - 2.0 * PI * plunger as f64 / self.plungers as f64
     }
 
     /// Plunger k's velocity outwards (towards the outlet), e w sin phi_k, m/s.
-    pub fn plunger_velocity_m_per_s(&self, plunger: usize, shaft_angle_rad: f64, speed_rad_per_s: f64) -> f64 {
+    pub fn plunger_velocity_m_per_s(&self, plunger: usize, shaft_angle_rad: R, speed_rad_per_s: R) -> R {
         self.eccentricity_m * speed_rad_per_s * self.plunger_angle_rad(plunger, shaft_angle_rad).sin()
     }
 
     /// Whether plunger k delivers at this angle (its outlet check valve open): it rises (sin phi_k
     /// positive), or stands at its bottom dead centre about to rise (sin phi_k = 0, cos phi_k > 0),
     /// for a shaft turning forwards. The check valve's state after an event.
-    pub fn delivers(&self, plunger: usize, shaft_angle_rad: f64) -> bool {
+    pub fn delivers(&self, plunger: usize, shaft_angle_rad: R) -> bool {
         let phi = self.plunger_angle_rad(plunger, shaft_angle_rad);
         let s = phi.sin();
         s > 0.0 || (s == 0.0 && phi.cos() > 0.0)
@@ -146,7 +149,7 @@ impl RadialPistonPump {
 
     /// The event indicator of plunger k's check valves: sin phi_k while it delivers, -sin phi_k
     /// while it fills; positive while the state holds, zero at its dead centres.
-    pub fn check_valve_indicator(&self, plunger: usize, delivering: bool, shaft_angle_rad: f64) -> f64 {
+    pub fn check_valve_indicator(&self, plunger: usize, delivering: bool, shaft_angle_rad: R) -> R {
         let s = self.plunger_angle_rad(plunger, shaft_angle_rad).sin();
         if delivering {
             s
@@ -156,18 +159,18 @@ impl RadialPistonPump {
     }
 
     /// Flow to the outlet, A e w sum over the delivering plungers of sin phi_k, m3/s.
-    pub fn delivery_flow_m3_per_s(&self, shaft_angle_rad: f64, speed_rad_per_s: f64, delivering: &[bool]) -> f64 {
+    pub fn delivery_flow_m3_per_s(&self, shaft_angle_rad: R, speed_rad_per_s: R, delivering: &[bool]) -> R {
         (0..self.plungers).filter(|k| delivering[*k]).map(|k| self.plunger_area_m2 * self.plunger_velocity_m_per_s(k, shaft_angle_rad, speed_rad_per_s)).sum()
     }
 
     /// Flow drawn from the inlet, A e w sum over the filling plungers of -sin phi_k, m3/s.
-    pub fn filling_flow_m3_per_s(&self, shaft_angle_rad: f64, speed_rad_per_s: f64, delivering: &[bool]) -> f64 {
+    pub fn filling_flow_m3_per_s(&self, shaft_angle_rad: R, speed_rad_per_s: R, delivering: &[bool]) -> R {
         (0..self.plungers).filter(|k| !delivering[*k]).map(|k| -self.plunger_area_m2 * self.plunger_velocity_m_per_s(k, shaft_angle_rad, speed_rad_per_s)).sum()
     }
 
     /// Torque the plungers take from the shaft, A e sum_k p_k sin phi_k, N m (p_k the outlet
     /// pressure on a delivering plunger, the inlet pressure on a filling one).
-    pub fn torque_n_m(&self, shaft_angle_rad: f64, delivering: &[bool], outlet_pa: f64, inlet_pa: f64) -> f64 {
+    pub fn torque_n_m(&self, shaft_angle_rad: R, delivering: &[bool], outlet_pa: R, inlet_pa: R) -> R {
         (0..self.plungers)
             .map(|k| {
                 let p = if delivering[k] { outlet_pa } else { inlet_pa };
@@ -200,10 +203,10 @@ impl RadialPistonPump {
 /// assert_eq!(valve.next_mode(1, -1e-12, -0.3, -1.0), (0, true));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PoppetValve {
-    pub seat_diameter_m: f64,
-    pub discharge_coefficient: f64,
-    pub density_kg_per_m3: f64,
+pub struct PoppetValve<R = f64> {
+    pub seat_diameter_m: R,
+    pub discharge_coefficient: R,
+    pub density_kg_per_m3: R,
 }
 
 impl PoppetValve {
@@ -223,41 +226,43 @@ impl PoppetValve {
     pub const SEATED: i32 = 0;
     /// Lifted off its seat.
     pub const OPEN: i32 = 1;
+}
 
+impl<R: Real> PoppetValve<R> {
     /// A = pi d^2 / 4, m2: the area the pressure pushes on, seated or lifted.
-    pub fn seat_area_m2(&self) -> f64 {
+    pub fn seat_area_m2(&self) -> R {
         crate::geometry::circle_area_m2(self.seat_diameter_m)
     }
 
     /// The pressure difference that balances a closing force, F / A, Pa.
-    pub fn opening_pressure_pa(&self, closing_force_n: f64) -> f64 {
+    pub fn opening_pressure_pa(&self, closing_force_n: R) -> R {
         closing_force_n / self.seat_area_m2()
     }
 
     /// The opening force of a pressure difference, A dp, N.
-    pub fn force_n(&self, pressure_difference_pa: f64) -> f64 {
+    pub fn force_n(&self, pressure_difference_pa: R) -> R {
         self.seat_area_m2() * pressure_difference_pa
     }
 
     /// The flow the moving poppet displaces, A v, m3/s.
-    pub fn displaced_flow_m3_per_s(&self, velocity_m_per_s: f64) -> f64 {
+    pub fn displaced_flow_m3_per_s(&self, velocity_m_per_s: R) -> R {
         self.seat_area_m2() * velocity_m_per_s
     }
 
     /// The orifice at a lift: the curtain area pi d x (0 when seated), Cd, rho.
-    pub fn orifice(&self, lift_m: f64) -> Orifice {
-        Orifice { discharge_coefficient: self.discharge_coefficient, area_m2: PI * self.seat_diameter_m * lift_m.max(0.0), density_kg_per_m3: self.density_kg_per_m3 }
+    pub fn orifice(&self, lift_m: R) -> Orifice<R> {
+        Orifice { discharge_coefficient: self.discharge_coefficient, area_m2: self.seat_diameter_m * PI * lift_m.max(R::from(0.0)), density_kg_per_m3: self.density_kg_per_m3 }
     }
 
     /// Flow through the opening at a lift, m3/s (0 seated).
-    pub fn flow_m3_per_s(&self, pressure_difference_pa: f64, lift_m: f64) -> f64 {
+    pub fn flow_m3_per_s(&self, pressure_difference_pa: R, lift_m: R) -> R {
         self.orifice(lift_m).flow_m3_per_s(pressure_difference_pa)
     }
 
     /// The event indicator of the seat: open, the lift (it closes where the lift reaches 0);
     /// seated, the margin by which the closing force exceeds the opening one (-net opening force).
-    pub fn seat_indicator(&self, mode: i32, lift_m: f64, net_opening_force_n: f64) -> f64 {
-        if mode == Self::OPEN {
+    pub fn seat_indicator(&self, mode: i32, lift_m: R, net_opening_force_n: R) -> R {
+        if mode == PoppetValve::<f64>::OPEN {
             lift_m
         } else {
             -net_opening_force_n
@@ -270,24 +275,26 @@ impl PoppetValve {
     /// value, is open); open, it lands when its lift reaches 0, and stays open from the seat when
     /// the net force does not close it. `velocity_m_per_s` is not needed to decide,
     /// but a landing poppet is one moving towards its seat or standing on it.
-    pub fn next_mode(&self, mode: i32, lift_m: f64, velocity_m_per_s: f64, net_opening_force_n: f64) -> (i32, bool) {
+    pub fn next_mode(&self, mode: i32, lift_m: R, velocity_m_per_s: R, net_opening_force_n: R) -> (i32, bool) {
         let _ = velocity_m_per_s;
         // The seated mode holds while its indicator, -net, is > 0: at an event (the indicator <= 0,
         // possibly exactly 0) it lifts, and a landing with the net force >= 0 stays open, so that the
         // two rules agree where the net force is exactly 0.
-        if mode == Self::OPEN {
+        const OPEN: i32 = PoppetValve::<f64>::OPEN;
+        const SEATED: i32 = PoppetValve::<f64>::SEATED;
+        if mode == OPEN {
             if lift_m > 0.0 {
-                (Self::OPEN, false)
+                (OPEN, false)
             } else if net_opening_force_n >= 0.0 {
-                (Self::OPEN, true)
+                (OPEN, true)
             } else {
-                (Self::SEATED, true)
+                (SEATED, true)
             }
         } else if net_opening_force_n >= 0.0 || lift_m > 0.0 {
             // Pushed off its seat, or found off it (a start value): open.
-            (Self::OPEN, false)
+            (OPEN, false)
         } else {
-            (Self::SEATED, false)
+            (SEATED, false)
         }
     }
 }
@@ -311,16 +318,16 @@ impl PoppetValve {
 /// assert!((seat + holes - 140e6).abs() < 1e-6);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct InjectorNozzle {
+pub struct InjectorNozzle<R = f64> {
     /// Number of spray holes (a real number: the law only needs their total area).
-    pub hole_count: f64,
-    pub hole_diameter_m: f64,
+    pub hole_count: R,
+    pub hole_diameter_m: R,
     /// Diameter of the needle's seat line on the nozzle cone.
-    pub seat_diameter_m: f64,
+    pub seat_diameter_m: R,
     /// Half angle of the seat cone (the gap normal to the cone is h sin(alpha)).
-    pub seat_half_angle_rad: f64,
-    pub discharge_coefficient: f64,
-    pub density_kg_per_m3: f64,
+    pub seat_half_angle_rad: R,
+    pub discharge_coefficient: R,
+    pub density_kg_per_m3: R,
 }
 
 impl InjectorNozzle {
@@ -328,39 +335,41 @@ impl InjectorNozzle {
     pub const SEAT: Effect = Effect { domains: &[Domain::Hydraulic], kind: Kind::Dissipation, what: "needle seat throttle (A = pi d_seat h sin alpha)" };
     /// The spray holes (Table 3.1's hydraulic dissipation).
     pub const HOLES: Effect = Effect { domains: &[Domain::Hydraulic], kind: Kind::Dissipation, what: "nozzle holes (Q = Cd A sqrt(2 dp / rho))" };
+}
 
+impl<R: Real> InjectorNozzle<R> {
     /// Total area of the holes, n pi d^2 / 4, m2.
-    pub fn hole_area_m2(&self) -> f64 {
+    pub fn hole_area_m2(&self) -> R {
         self.hole_count * crate::geometry::circle_area_m2(self.hole_diameter_m)
     }
 
     /// The seat's gap area at needle lift h, pi d_seat h sin(alpha), m2 (0 when seated).
-    pub fn seat_area_m2(&self, lift_m: f64) -> f64 {
-        PI * self.seat_diameter_m * lift_m.max(0.0) * self.seat_half_angle_rad.sin()
+    pub fn seat_area_m2(&self, lift_m: R) -> R {
+        self.seat_diameter_m * PI * lift_m.max(R::from(0.0)) * self.seat_half_angle_rad.sin()
     }
 
     /// A_eff = A_seat A_holes / sqrt(A_seat^2 + A_holes^2), m2.
-    pub fn effective_area_m2(&self, lift_m: f64) -> f64 {
+    pub fn effective_area_m2(&self, lift_m: R) -> R {
         let (s, h) = (self.seat_area_m2(lift_m), self.hole_area_m2());
         if s <= 0.0 {
-            0.0
+            R::from(0.0)
         } else {
             s * h / s.hypot(h)
         }
     }
 
     /// Flow through the nozzle from the rail side to the cylinder, Cd A_eff sqrt(2 |dp| / rho) sign(dp), m3/s.
-    pub fn flow_m3_per_s(&self, pressure_difference_pa: f64, lift_m: f64) -> f64 {
+    pub fn flow_m3_per_s(&self, pressure_difference_pa: R, lift_m: R) -> R {
         Orifice { discharge_coefficient: self.discharge_coefficient, area_m2: self.effective_area_m2(lift_m), density_kg_per_m3: self.density_kg_per_m3 }
             .flow_m3_per_s(pressure_difference_pa)
     }
 
     /// The pressure drops across the seat and across the holes, Pa: dp (A_eff / A_seat)^2 and
     /// dp (A_eff / A_holes)^2 (they add up to dp); (0, 0) seated (no flow, the holes see none of it).
-    pub fn pressure_drops_pa(&self, pressure_difference_pa: f64, lift_m: f64) -> (f64, f64) {
+    pub fn pressure_drops_pa(&self, pressure_difference_pa: R, lift_m: R) -> (R, R) {
         let (s, h) = (self.seat_area_m2(lift_m), self.hole_area_m2());
         if s <= 0.0 {
-            return (0.0, 0.0);
+            return (R::from(0.0), R::from(0.0));
         }
         let sum = s * s + h * h;
         (pressure_difference_pa * h * h / sum, pressure_difference_pa * s * s / sum)
@@ -387,36 +396,36 @@ impl InjectorNozzle {
 /// assert_eq!(needle.lift_m(needle.end_s(et), et), 0.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NeedleLift {
-    pub opening_delay_s: f64,
-    pub closing_delay_s: f64,
-    pub opening_speed_m_per_s: f64,
-    pub closing_speed_m_per_s: f64,
-    pub max_lift_m: f64,
+pub struct NeedleLift<R = f64> {
+    pub opening_delay_s: R,
+    pub closing_delay_s: R,
+    pub opening_speed_m_per_s: R,
+    pub closing_speed_m_per_s: R,
+    pub max_lift_m: R,
 }
 
-impl NeedleLift {
+impl<R: Real> NeedleLift<R> {
     /// When the needle starts closing after the start of energizing, T_ET + closing delay, s.
-    fn closing_start_s(&self, energizing_time_s: f64) -> f64 {
+    fn closing_start_s(&self, energizing_time_s: R) -> R {
         energizing_time_s + self.closing_delay_s
     }
 
     /// The lift it has reached when it starts closing, m.
-    fn lift_at_closing_m(&self, energizing_time_s: f64) -> f64 {
-        (self.opening_speed_m_per_s * (self.closing_start_s(energizing_time_s) - self.opening_delay_s)).clamp(0.0, self.max_lift_m)
+    fn lift_at_closing_m(&self, energizing_time_s: R) -> R {
+        (self.opening_speed_m_per_s * (self.closing_start_s(energizing_time_s) - self.opening_delay_s)).clamp(R::from(0.0), self.max_lift_m)
     }
 
     /// The lift `since_start_s` after the start of energizing, m (0 before and after the shot).
-    pub fn lift_m(&self, since_start_s: f64, energizing_time_s: f64) -> f64 {
+    pub fn lift_m(&self, since_start_s: R, energizing_time_s: R) -> R {
         let rising = self.opening_speed_m_per_s * (since_start_s - self.opening_delay_s);
         let closing = self.lift_at_closing_m(energizing_time_s) - self.closing_speed_m_per_s * (since_start_s - self.closing_start_s(energizing_time_s));
-        rising.min(self.max_lift_m).min(closing).max(0.0)
+        rising.min(self.max_lift_m).min(closing).max(R::from(0.0))
     }
 
     /// The four kinks of the trapezoid after the start of energizing, s, in order: lift-off, the
     /// stop reached (lift-off again when it is never reached), closing starts (lift-off when it never
     /// lifts), the needle on its seat (the end of the shot).
-    pub fn kinks_s(&self, energizing_time_s: f64) -> [f64; 4] {
+    pub fn kinks_s(&self, energizing_time_s: R) -> [R; 4] {
         let lift_off = self.opening_delay_s;
         let closing = self.closing_start_s(energizing_time_s);
         let top = self.lift_at_closing_m(energizing_time_s);
@@ -428,7 +437,7 @@ impl NeedleLift {
     }
 
     /// When the shot is over (the needle back on its seat), after the start of energizing, s.
-    pub fn end_s(&self, energizing_time_s: f64) -> f64 {
+    pub fn end_s(&self, energizing_time_s: R) -> R {
         self.kinks_s(energizing_time_s)[3]
     }
 }

@@ -26,8 +26,17 @@
 //! fan load), [`translational`] (mass, spring, damper, sliding friction, rack and pinion, lever), [`geometry`] (Table 3.2: parameters
 //! from dimensions and materials, eqs. 3.1-3.2), [`hydraulic`] (pump and motor, cylinder, oil volume, leakage, orifice), [`dc`] (the DC machine of eq. 3.9, the chopper), [`induction`] (the induction machine, circuit and dq), [`control`] (ramps, filter,
 //! multiplier, PI), [`sources`], [`thermal`] (nodes and conductances), [`magnetic`] (reluctances
-//! and windings), [`activity`] (eq. 3.3), [`table`] (a motor's torque-speed table), [`roots`] (bisection). Every element has an example in its documentation
+//! and windings), [`activity`] (eq. 3.3), [`table`] (a motor's torque-speed table), [`roots`] (bisection, and the derivatives of a root). Every element has an example in its documentation
 //! (`cargo doc -p components --open`).
+//!
+//! Every element is written once over the scalar `R:` [`fmu_runtime::real::Real`], `f64` by
+//! default (`Inertia` is `Inertia<f64>`, and `Inertia { inertia_kg_m2: 1.72 }` infers it): over
+//! `f64` the laws compute exactly what they computed written over `f64` (the same operations in
+//! the same order), over [`fmu_runtime::real::Dual`] they also give the exact directional
+//! derivative of every result (docs/DESIGN.md, "Exact derivatives: equations over any scalar"; the test
+//! `tests/dual_derivatives.rs` checks them against sixth-order differences). Integers, modes,
+//! flags and enum choices stay as they are; an element's [`Effect`](fmu_runtime::elements::Effect)
+//! constants are on its `f64` form (`Inertia::INERTIA`).
 
 pub mod activity;
 pub mod complex;

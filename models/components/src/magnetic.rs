@@ -8,6 +8,7 @@
 //! dissipating it: the power flowing into a magnetic element is mmf x d(flux)/dt, not mmf x flux.
 //! A winding (the transformer T of Figure 3.26) couples the electric and magnetic ports.
 
+use fmu_runtime::real::Real;
 use fmu_runtime::elements::{Domain, Effect, Kind};
 use std::f64::consts::PI;
 
@@ -28,25 +29,27 @@ pub const MU_0_H_PER_M: f64 = 4.0e-7 * PI;
 /// assert!((circuit.flux_wb(circuit.mmf_a(1e-4)) - 1e-4).abs() < 1e-18);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Reluctance {
-    pub reluctance_per_h: f64,
+pub struct Reluctance<R = f64> {
+    pub reluctance_per_h: R,
 }
 
 impl Reluctance {
     /// Its effect (Table 3.1, question 2): magnetic storage, mmf = reluctance x flux.
     pub const RELUCTANCE: Effect = Effect { domains: &[Domain::Magnetic], kind: Kind::StorageC, what: "reluctance" };
+}
 
+impl<R: Real> Reluctance<R> {
     /// A flux tube of uniform section: R = length / (mu0 mu_r area) (question 2).
-    pub fn uniform(length_m: f64, area_m2: f64, relative_permeability: f64) -> Self {
-        Reluctance { reluctance_per_h: length_m / (MU_0_H_PER_M * relative_permeability * area_m2) }
+    pub fn uniform(length_m: R, area_m2: R, relative_permeability: R) -> Self {
+        Reluctance { reluctance_per_h: length_m / (relative_permeability * MU_0_H_PER_M * area_m2) }
     }
 
     /// An air gap crossed radially between two coaxial cylinders of radii `inner_radius_m` and
     /// `outer_radius_m` over an axial width `width_m` (the gap between a detection ring and its
     /// yoke, Figure 3.25). The flux through a cylinder of radius r is B 2 pi r width, so
     /// H = flux / (mu0 2 pi r width) and mmf = integral of H dr = flux ln(r2/r1) / (2 pi mu0 width).
-    pub fn radial_air_gap(inner_radius_m: f64, outer_radius_m: f64, width_m: f64) -> Self {
-        Reluctance::radial(inner_radius_m, outer_radius_m, width_m, 1.0)
+    pub fn radial_air_gap(inner_radius_m: R, outer_radius_m: R, width_m: R) -> Self {
+        Reluctance::radial(inner_radius_m, outer_radius_m, width_m, R::from(1.0))
     }
 
     /// A hollow cylinder crossed axially (flux along the axis) between the radii `inner_radius_m`
@@ -60,8 +63,8 @@ impl Reluctance {
     /// let area = std::f64::consts::PI * (0.015f64.powi(2) - 0.012f64.powi(2));
     /// assert!((ring.reluctance_per_h - Reluctance::uniform(0.010, area, 1000.0).reluctance_per_h).abs() < 1e-6);
     /// ```
-    pub fn axial_annulus(length_m: f64, inner_radius_m: f64, outer_radius_m: f64, relative_permeability: f64) -> Self {
-        let area = PI * (outer_radius_m * outer_radius_m - inner_radius_m * inner_radius_m);
+    pub fn axial_annulus(length_m: R, inner_radius_m: R, outer_radius_m: R, relative_permeability: R) -> Self {
+        let area = (outer_radius_m * outer_radius_m - inner_radius_m * inner_radius_m) * PI;
         Reluctance::uniform(length_m, area, relative_permeability)
     }
 
@@ -76,36 +79,36 @@ impl Reluctance {
     /// let iron = Reluctance::radial(0.015, 0.0165, 0.002, 1000.0);
     /// assert!((air.reluctance_per_h / iron.reluctance_per_h - 1000.0).abs() < 1e-9);
     /// ```
-    pub fn radial(inner_radius_m: f64, outer_radius_m: f64, width_m: f64, relative_permeability: f64) -> Self {
+    pub fn radial(inner_radius_m: R, outer_radius_m: R, width_m: R, relative_permeability: R) -> Self {
         Reluctance {
             reluctance_per_h: (outer_radius_m / inner_radius_m).ln()
-                / (2.0 * PI * MU_0_H_PER_M * relative_permeability * width_m),
+                / (relative_permeability * (2.0 * PI * MU_0_H_PER_M) * width_m),
         }
     }
 
     /// Two reluctances crossed by the same flux (series, as resistors).
-    pub fn series(self, other: Reluctance) -> Reluctance {
+    pub fn series(self, other: Reluctance<R>) -> Reluctance<R> {
         Reluctance { reluctance_per_h: self.reluctance_per_h + other.reluctance_per_h }
     }
 
     /// Permeance 1 / R, H (the inductance of a one-turn winding on this circuit).
-    pub fn permeance_h(&self) -> f64 {
-        1.0 / self.reluctance_per_h
+    pub fn permeance_h(&self) -> R {
+        R::from(1.0) / self.reluctance_per_h
     }
 
     /// Magnetomotive force across the reluctance for a flux, A.
-    pub fn mmf_a(&self, flux_wb: f64) -> f64 {
+    pub fn mmf_a(&self, flux_wb: R) -> R {
         self.reluctance_per_h * flux_wb
     }
 
     /// Flux through the reluctance under an mmf, Wb.
-    pub fn flux_wb(&self, mmf_a: f64) -> f64 {
+    pub fn flux_wb(&self, mmf_a: R) -> R {
         mmf_a / self.reluctance_per_h
     }
 
     /// Stored magnetic energy R flux^2 / 2, J.
-    pub fn energy_j(&self, flux_wb: f64) -> f64 {
-        0.5 * self.reluctance_per_h * flux_wb * flux_wb
+    pub fn energy_j(&self, flux_wb: R) -> R {
+        self.reluctance_per_h * 0.5 * flux_wb * flux_wb
     }
 }
 
@@ -123,41 +126,43 @@ impl Reluctance {
 /// assert!((coil.current_a(flux, circuit) - 1.2e7 * flux / 1000.0).abs() < 1e-12);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Winding {
-    pub turns: f64,
-    pub resistance_ohm: f64,
+pub struct Winding<R = f64> {
+    pub turns: R,
+    pub resistance_ohm: R,
 }
 
 impl Winding {
     /// Its effect (Figure 3.26's T): a lossless transformer between the electric and magnetic ports.
     pub const TRANSFORMER: Effect = Effect { domains: &[Domain::Electrical, Domain::Magnetic], kind: Kind::Transformer, what: "winding" };
+}
 
+impl<R: Real> Winding<R> {
     /// Ampere's circuital law: the mmf of the winding carrying a current, A.
-    pub fn mmf_a(&self, current_a: f64) -> f64 {
+    pub fn mmf_a(&self, current_a: R) -> R {
         self.turns * current_a
     }
 
     /// The current for a flux in a circuit of reluctance `circuit`: N i = R flux, A.
-    pub fn current_a(&self, flux_wb: f64, circuit: Reluctance) -> f64 {
+    pub fn current_a(&self, flux_wb: R, circuit: Reluctance<R>) -> R {
         circuit.mmf_a(flux_wb) / self.turns
     }
 
     /// Lenz's law: d(flux)/dt = (u - R i) / N, for a terminal voltage and the current, Wb/s.
-    pub fn flux_rate_wb_per_s(&self, voltage_v: f64, current_a: f64) -> f64 {
+    pub fn flux_rate_wb_per_s(&self, voltage_v: R, current_a: R) -> R {
         (voltage_v - self.resistance().voltage_v(current_a)) / self.turns
     }
 
     /// Inductance of the winding on a circuit, N^2 / R, H (question 4).
-    pub fn inductance_h(&self, circuit: Reluctance) -> f64 {
+    pub fn inductance_h(&self, circuit: Reluctance<R>) -> R {
         self.turns * self.turns * circuit.permeance_h()
     }
 
     /// The equivalent R-L impedance of this winding on a fixed circuit (question 5).
-    pub fn as_rl(&self, circuit: Reluctance) -> RlWinding {
+    pub fn as_rl(&self, circuit: Reluctance<R>) -> RlWinding<R> {
         RlWinding { inductance_h: self.inductance_h(circuit), resistance_ohm: self.resistance_ohm }
     }
 
-    fn resistance(&self) -> Resistor {
+    fn resistance(&self) -> Resistor<R> {
         Resistor { resistance_ohm: self.resistance_ohm }
     }
 }
@@ -172,14 +177,14 @@ impl Winding {
 /// assert!(rl.current_rate_a_per_s(5.0, 5.0 / 30.0).abs() < 1e-12);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RlWinding {
-    pub inductance_h: f64,
-    pub resistance_ohm: f64,
+pub struct RlWinding<R = f64> {
+    pub inductance_h: R,
+    pub resistance_ohm: R,
 }
 
-impl RlWinding {
+impl<R: Real> RlWinding<R> {
     /// di/dt for a terminal voltage and the current, A/s.
-    pub fn current_rate_a_per_s(&self, voltage_v: f64, current_a: f64) -> f64 {
+    pub fn current_rate_a_per_s(&self, voltage_v: R, current_a: R) -> R {
         let r = Resistor { resistance_ohm: self.resistance_ohm };
         Inductor { inductance_h: self.inductance_h }.current_rate_a_per_s(voltage_v - r.voltage_v(current_a))
     }
@@ -188,23 +193,23 @@ impl RlWinding {
 /// Where the teeth of a [`ToothedAirGap`] face each other: this gives the facing section per
 /// radian of overlap of a tooth pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ToothFaces {
+pub enum ToothFaces<R = f64> {
     /// Teeth on two coaxial cylinders across a radial gap at `radius_m`, over an axial length
     /// `axial_length_m`: radius x axial length per radian.
-    Radial { radius_m: f64, axial_length_m: f64 },
+    Radial { radius_m: R, axial_length_m: R },
     /// Teeth on two facing annuli (radii `inner_radius_m` to `outer_radius_m`) across an axial
     /// gap: (r_o^2 - r_i^2) / 2 per radian. The book's variable gap (book file
     /// Chap3_TorqueSensor.mo, component AxialTorqueSensor) is of this kind.
-    Axial { inner_radius_m: f64, outer_radius_m: f64 },
+    Axial { inner_radius_m: R, outer_radius_m: R },
 }
 
-impl ToothFaces {
+impl<R: Real> ToothFaces<R> {
     /// Facing section of one tooth pair per radian of overlap, m2/rad.
-    pub fn area_per_rad_m2(&self) -> f64 {
+    pub fn area_per_rad_m2(&self) -> R {
         match *self {
             ToothFaces::Radial { radius_m, axial_length_m } => radius_m * axial_length_m,
             ToothFaces::Axial { inner_radius_m, outer_radius_m } => {
-                0.5 * (outer_radius_m * outer_radius_m - inner_radius_m * inner_radius_m)
+                (outer_radius_m * outer_radius_m - inner_radius_m * inner_radius_m) * 0.5
             }
         }
     }
@@ -226,15 +231,15 @@ impl ToothFaces {
 /// assert!((gap.overlap_rad(0.0) - 11.25f64.to_radians()).abs() < 1e-15);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ToothedAirGap {
-    pub teeth: f64,
-    pub faces: ToothFaces,
-    pub gap_length_m: f64,
-    pub tooth_width_rad: f64,
-    pub rest_overlap_rad: f64,
+pub struct ToothedAirGap<R = f64> {
+    pub teeth: R,
+    pub faces: ToothFaces<R>,
+    pub gap_length_m: R,
+    pub tooth_width_rad: R,
+    pub rest_overlap_rad: R,
 }
 
-impl ToothedAirGap {
+impl<R: Real> ToothedAirGap<R> {
     /// Teeth half the pitch wide (2 pi / teeth), half overlapping at zero twist: the facing
     /// fraction of the faces is 1/4 + teeth twist / (2 pi), the book's formula (book file
     /// Chap3_TorqueSensor.mo, HollowCylinderAxialFluxVariable: A = pi (r_o^2 - r_i^2)
@@ -248,23 +253,23 @@ impl ToothedAirGap {
     /// let book = PI * (0.015f64.powi(2) - 0.012f64.powi(2)) * (0.25 + 10.0 * twist / (2.0 * PI));
     /// assert!((gap.area_m2(twist) / book - 1.0).abs() < 1e-12);
     /// ```
-    pub fn half_pitch(teeth: f64, faces: ToothFaces, gap_length_m: f64) -> Self {
-        ToothedAirGap { teeth, faces, gap_length_m, tooth_width_rad: PI / teeth, rest_overlap_rad: PI / (2.0 * teeth) }
+    pub fn half_pitch(teeth: R, faces: ToothFaces<R>, gap_length_m: R) -> Self {
+        ToothedAirGap { teeth, faces, gap_length_m, tooth_width_rad: R::from(PI) / teeth, rest_overlap_rad: R::from(PI) / (teeth * 2.0) }
     }
 
     /// Angular overlap of each tooth pair at a twist, rad, within [0, tooth width].
-    pub fn overlap_rad(&self, twist_rad: f64) -> f64 {
-        (self.rest_overlap_rad + twist_rad).clamp(0.0, self.tooth_width_rad)
+    pub fn overlap_rad(&self, twist_rad: R) -> R {
+        (self.rest_overlap_rad + twist_rad).clamp(R::from(0.0), self.tooth_width_rad)
     }
 
     /// Facing section of the gap, m2.
-    pub fn area_m2(&self, twist_rad: f64) -> f64 {
+    pub fn area_m2(&self, twist_rad: R) -> R {
         self.teeth * self.overlap_rad(twist_rad) * self.faces.area_per_rad_m2()
     }
 
     /// Reluctance at a twist (infinite when the teeth no longer face each other), 1/H.
-    pub fn reluctance(&self, twist_rad: f64) -> Reluctance {
-        Reluctance::uniform(self.gap_length_m, self.area_m2(twist_rad), 1.0)
+    pub fn reluctance(&self, twist_rad: R) -> Reluctance<R> {
+        Reluctance::uniform(self.gap_length_m, self.area_m2(twist_rad), R::from(1.0))
     }
 
     /// d(reluctance)/d(twist), 1/(H rad): -gap / (mu0 section^2) x d(section)/d(twist) while the
@@ -277,18 +282,18 @@ impl ToothedAirGap {
     /// let numeric = (gap.reluctance(h).reluctance_per_h - gap.reluctance(-h).reluctance_per_h) / (2.0 * h);
     /// assert!((gap.reluctance_rate_per_h_per_rad(0.0) / numeric - 1.0).abs() < 1e-6);
     /// ```
-    pub fn reluctance_rate_per_h_per_rad(&self, twist_rad: f64) -> f64 {
+    pub fn reluctance_rate_per_h_per_rad(&self, twist_rad: R) -> R {
         let overlap = self.rest_overlap_rad + twist_rad;
         if overlap <= 0.0 || overlap >= self.tooth_width_rad {
-            return 0.0;
+            return R::from(0.0);
         }
         let area = self.area_m2(twist_rad);
-        -self.gap_length_m / (MU_0_H_PER_M * area * area) * self.teeth * self.faces.area_per_rad_m2()
+        -self.gap_length_m / (area * MU_0_H_PER_M * area) * self.teeth * self.faces.area_per_rad_m2()
     }
 
     /// The twists at which a tooth pair stops overlapping or overlaps fully: beyond them the
     /// reluctance no longer changes (or is infinite).
-    pub fn twist_range_rad(&self) -> (f64, f64) {
+    pub fn twist_range_rad(&self) -> (R, R) {
         (-self.rest_overlap_rad, self.tooth_width_rad - self.rest_overlap_rad)
     }
 }

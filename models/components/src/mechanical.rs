@@ -1,6 +1,7 @@
 //! Rotational mechanics (chapter sections 3.2-3.3, Figures 3.4 and 3.5): effort = torque (N m),
 //! flow = angular speed (rad/s).
 
+use fmu_runtime::real::Real;
 use fmu_runtime::elements::{Domain, Effect, Kind};
 
 /// The effect of a shaft end where a subsystem FMU meets the FMU it is coupled to: the power
@@ -16,27 +17,29 @@ pub const SHAFT_PORT: Effect = Effect { domains: &[Domain::Rotational], kind: Ki
 /// assert!((motor.energy_j(10.0) - 86.0).abs() < 1e-12); // J w^2 / 2
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Inertia {
-    pub inertia_kg_m2: f64,
+pub struct Inertia<R = f64> {
+    pub inertia_kg_m2: R,
 }
 
 impl Inertia {
     /// Its effect (Table 3.1): inertial storage in rotation.
     pub const INERTIA: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::StorageI, what: "inertia" };
+}
 
+impl<R: Real> Inertia<R> {
     /// dw/dt under a net torque, rad/s2.
-    pub fn acceleration_rad_per_s2(&self, net_torque_n_m: f64) -> f64 {
+    pub fn acceleration_rad_per_s2(&self, net_torque_n_m: R) -> R {
         net_torque_n_m / self.inertia_kg_m2
     }
 
     /// Power stored per second, J dw/dt w, W (positive while speeding up).
-    pub fn power_w(&self, acceleration_rad_per_s2: f64, speed_rad_per_s: f64) -> f64 {
+    pub fn power_w(&self, acceleration_rad_per_s2: R, speed_rad_per_s: R) -> R {
         self.inertia_kg_m2 * acceleration_rad_per_s2 * speed_rad_per_s
     }
 
     /// Kinetic energy J w^2 / 2, J.
-    pub fn energy_j(&self, speed_rad_per_s: f64) -> f64 {
-        0.5 * self.inertia_kg_m2 * speed_rad_per_s * speed_rad_per_s
+    pub fn energy_j(&self, speed_rad_per_s: R) -> R {
+        self.inertia_kg_m2 * 0.5 * speed_rad_per_s * speed_rad_per_s
     }
 }
 
@@ -51,9 +54,9 @@ impl Inertia {
 /// assert_eq!(shaft.damper_power_w(2.0), 20.0); // D (dtheta/dt)^2
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TorsionSpring {
-    pub stiffness_n_m_per_rad: f64,
-    pub damping_n_m_s_per_rad: f64,
+pub struct TorsionSpring<R = f64> {
+    pub stiffness_n_m_per_rad: R,
+    pub damping_n_m_s_per_rad: R,
 }
 
 impl TorsionSpring {
@@ -61,26 +64,28 @@ impl TorsionSpring {
     pub const STIFFNESS: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::StorageC, what: "shaft stiffness" };
     /// ... and its internal damping (dissipation).
     pub const DAMPING: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "internal damping" };
+}
 
+impl<R: Real> TorsionSpring<R> {
     /// Transmitted torque at a twist and twist rate, N m.
-    pub fn torque_n_m(&self, twist_rad: f64, twist_rate_rad_per_s: f64) -> f64 {
+    pub fn torque_n_m(&self, twist_rad: R, twist_rate_rad_per_s: R) -> R {
         self.stiffness_n_m_per_rad * twist_rad + self.damping_n_m_s_per_rad * twist_rate_rad_per_s
     }
 
     /// Power into the elastic part, K theta dtheta/dt, W.
-    pub fn spring_power_w(&self, twist_rad: f64, twist_rate_rad_per_s: f64) -> f64 {
+    pub fn spring_power_w(&self, twist_rad: R, twist_rate_rad_per_s: R) -> R {
         self.stiffness_n_m_per_rad * twist_rad * twist_rate_rad_per_s
     }
 
     /// Power dissipated by the internal damping, W (never negative).
-    pub fn damper_power_w(&self, twist_rate_rad_per_s: f64) -> f64 {
+    pub fn damper_power_w(&self, twist_rate_rad_per_s: R) -> R {
         self.damping_n_m_s_per_rad * twist_rate_rad_per_s * twist_rate_rad_per_s
     }
 
     /// Natural frequency of this spring between two inertias, Hz: sqrt(K (1/J1 + 1/J2)) / 2 pi.
     /// With `j2` infinite (an imposed speed on one side) it is sqrt(K/J1) / 2 pi (eq. 3.8).
-    pub fn natural_frequency_hz(&self, j1_kg_m2: f64, j2_kg_m2: f64) -> f64 {
-        (self.stiffness_n_m_per_rad * (1.0 / j1_kg_m2 + 1.0 / j2_kg_m2)).sqrt() / (2.0 * std::f64::consts::PI)
+    pub fn natural_frequency_hz(&self, j1_kg_m2: R, j2_kg_m2: R) -> R {
+        (self.stiffness_n_m_per_rad * (R::from(1.0) / j1_kg_m2 + R::from(1.0) / j2_kg_m2)).sqrt() / (2.0 * std::f64::consts::PI)
     }
 }
 
@@ -96,29 +101,31 @@ impl TorsionSpring {
 /// assert!((bar.stop_torque_n_m() - 10.0).abs() < 1e-9);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TorsionBar {
-    pub stiffness_n_m_per_rad: f64,
-    pub stop_angle_rad: f64,
+pub struct TorsionBar<R = f64> {
+    pub stiffness_n_m_per_rad: R,
+    pub stop_angle_rad: R,
 }
 
 impl TorsionBar {
     /// Its effect (Table 3.1): capacitive storage in rotation (massless).
     pub const STIFFNESS: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::StorageC, what: "torsion bar stiffness" };
+}
 
+impl<R: Real> TorsionBar<R> {
     /// Stiffness of a round bar of a shear modulus, diameter and length: K = G pi d^4 / (32 l)
     /// (polar moment of area pi d^4 / 32), N m/rad: eq. 3.2 with no bore, computed by
     /// [`geometry::shaft_torsional_stiffness_n_m_per_rad`](crate::geometry::shaft_torsional_stiffness_n_m_per_rad).
-    pub fn round_bar_stiffness_n_m_per_rad(shear_modulus_pa: f64, diameter_m: f64, length_m: f64) -> f64 {
+    pub fn round_bar_stiffness_n_m_per_rad(shear_modulus_pa: R, diameter_m: R, length_m: R) -> R {
         crate::geometry::shaft_torsional_stiffness_n_m_per_rad(shear_modulus_pa, diameter_m, length_m)
     }
 
     /// Twist angle of the input shaft with respect to the output shaft under a torque, rad.
-    pub fn twist_rad(&self, torque_n_m: f64) -> f64 {
+    pub fn twist_rad(&self, torque_n_m: R) -> R {
         (torque_n_m / self.stiffness_n_m_per_rad).clamp(-self.stop_angle_rad, self.stop_angle_rad)
     }
 
     /// The torque at which the bar reaches its stops, N m.
-    pub fn stop_torque_n_m(&self) -> f64 {
+    pub fn stop_torque_n_m(&self) -> R {
         self.stiffness_n_m_per_rad * self.stop_angle_rad
     }
 }
@@ -134,27 +141,29 @@ impl TorsionBar {
 /// assert_eq!(drum.referred_inertia_kg_m2(1800.0), 112.5); // 1/2 m v^2 = 1/2 (m r^2) w^2
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CableDrum {
-    pub radius_m: f64,
+pub struct CableDrum<R = f64> {
+    pub radius_m: R,
 }
 
 impl CableDrum {
     /// Its effect (Table 3.1): a lossless transformer between rotation and translation.
     pub const TRANSFORMER: Effect =
         Effect { domains: &[Domain::Rotational, Domain::Translational], kind: Kind::Transformer, what: "drum radius (rotation to translation)" };
+}
 
+impl<R: Real> CableDrum<R> {
     /// Cable (cabin) speed for a drum speed, m/s.
-    pub fn cable_speed_m_per_s(&self, drum_speed_rad_per_s: f64) -> f64 {
+    pub fn cable_speed_m_per_s(&self, drum_speed_rad_per_s: R) -> R {
         self.radius_m * drum_speed_rad_per_s
     }
 
     /// Torque on the drum's shaft from a cable force, N m.
-    pub fn torque_n_m(&self, cable_force_n: f64) -> f64 {
+    pub fn torque_n_m(&self, cable_force_n: R) -> R {
         self.radius_m * cable_force_n
     }
 
     /// A mass moving with the cable, seen as an inertia on the drum's shaft, kg m2.
-    pub fn referred_inertia_kg_m2(&self, mass_kg: f64) -> f64 {
+    pub fn referred_inertia_kg_m2(&self, mass_kg: R) -> R {
         mass_kg * self.radius_m * self.radius_m
     }
 }
@@ -171,9 +180,9 @@ impl CableDrum {
 /// assert!((gear.referred_inertia_kg_m2(1172.0) - 11.72).abs() < 1e-12); // J / N^2 (eq. 3.6)
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Reducer {
-    pub ratio: f64,
-    pub efficiency: f64,
+pub struct Reducer<R = f64> {
+    pub ratio: R,
+    pub efficiency: R,
 }
 
 impl Reducer {
@@ -181,18 +190,20 @@ impl Reducer {
     pub const RATIO: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Transformer, what: "reduction ratio" };
     /// ... and its efficiency (the loss, a dissipation; see [`loss_flowing_w`](Self::loss_flowing_w)).
     pub const EFFICIENCY: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "reducer efficiency" };
+}
 
+impl<R: Real> Reducer<R> {
     // Every law below is the worm gear's with one efficiency both ways: [`WormGear`] holds it.
 
     /// Low-side speed for a high-side speed, rad/s.
-    pub fn low_speed(&self, high_speed_rad_per_s: f64) -> f64 {
+    pub fn low_speed(&self, high_speed_rad_per_s: R) -> R {
         WormGear::from(*self).low_speed(high_speed_rad_per_s)
     }
 
     /// Low-side torque delivered for a high-side torque, N m: the losses always reduce the
     /// torque on the receiving side, so eta multiplies when power flows from the high side
     /// (T w >= 0) and divides when it flows back.
-    pub fn low_side_torque_n_m(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+    pub fn low_side_torque_n_m(&self, high_torque_n_m: R, high_speed_rad_per_s: R) -> R {
         WormGear::from(*self).low_side_torque_n_m(high_torque_n_m, high_speed_rad_per_s)
     }
 
@@ -201,14 +212,14 @@ impl Reducer {
     /// the power reverses, a kink in the equations: a model that holds the direction as a
     /// discrete mode (see [`next_power_flow`](Self::next_power_flow)) lets the solver stop there
     /// instead of stepping across it.
-    pub fn low_side_torque_flowing_n_m(&self, high_torque_n_m: f64, forward: bool) -> f64 {
+    pub fn low_side_torque_flowing_n_m(&self, high_torque_n_m: R, forward: bool) -> R {
         WormGear::from(*self).low_side_torque_flowing_n_m(high_torque_n_m, forward)
     }
 
     /// The event indicator of a power-flow mode (1: the power flows from the high side, -1: back):
     /// the power through the reducer, T w on the high side, signed to be positive while the
     /// mode holds.
-    pub fn power_flow_indicator(&self, mode: i32, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+    pub fn power_flow_indicator(&self, mode: i32, high_torque_n_m: R, high_speed_rad_per_s: R) -> R {
         WormGear::from(*self).power_flow_indicator(mode, high_torque_n_m, high_speed_rad_per_s)
     }
 
@@ -216,23 +227,23 @@ impl Reducer {
     /// sign of dP/dt (where it is heading), and where that is zero too (a drive at rest) the mode
     /// holds. The answer does not depend on the current mode when P != 0, so a repeated update
     /// settles at once.
-    pub fn next_power_flow(&self, mode: i32, power_w: f64, power_rate_w_per_s: f64) -> i32 {
+    pub fn next_power_flow(&self, mode: i32, power_w: R, power_rate_w_per_s: R) -> i32 {
         WormGear::from(*self).next_power_flow(mode, power_w, power_rate_w_per_s)
     }
 
     /// High-side torque that delivers a given low-side torque, N m (the inverse of
     /// `low_side_torque_n_m` at the same speed).
-    pub fn high_side_torque_n_m(&self, low_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+    pub fn high_side_torque_n_m(&self, low_torque_n_m: R, high_speed_rad_per_s: R) -> R {
         WormGear::from(*self).high_side_torque_n_m(low_torque_n_m, high_speed_rad_per_s)
     }
 
     /// A low-side inertia seen from the high side, J / N^2 (eqs. 3.4-3.7).
-    pub fn referred_inertia_kg_m2(&self, low_side_inertia_kg_m2: f64) -> f64 {
+    pub fn referred_inertia_kg_m2(&self, low_side_inertia_kg_m2: R) -> R {
         WormGear::from(*self).referred_inertia_kg_m2(low_side_inertia_kg_m2)
     }
 
     /// Power lost in the gears, W (never negative).
-    pub fn loss_w(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+    pub fn loss_w(&self, high_torque_n_m: R, high_speed_rad_per_s: R) -> R {
         WormGear::from(*self).loss_w(high_torque_n_m, high_speed_rad_per_s)
     }
 
@@ -241,7 +252,7 @@ impl Reducer {
     /// power minus the low side's. Never negative while `forward` agrees with the sign of the
     /// power; a model holding the direction as a mode reports this one, which is what its
     /// equations transmit.
-    pub fn loss_flowing_w(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64, forward: bool) -> f64 {
+    pub fn loss_flowing_w(&self, high_torque_n_m: R, high_speed_rad_per_s: R, forward: bool) -> R {
         WormGear::from(*self).loss_flowing_w(high_torque_n_m, high_speed_rad_per_s, forward)
     }
 }
@@ -283,13 +294,13 @@ impl Reducer {
 /// assert!(WormGear::from_lead_and_friction_angle(30.0, 5f64.to_radians(), 0.1f64.atan()).is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WormGear {
+pub struct WormGear<R = f64> {
     /// N = worm (high side) speed / wheel (low side) speed.
-    pub ratio: f64,
+    pub ratio: R,
     /// eta_f, power flowing from the worm to the wheel, in (0, 1].
-    pub forward_efficiency: f64,
+    pub forward_efficiency: R,
     /// eta_b, power flowing from the wheel back to the worm, in (0, 1] (<= 0: self-locking).
-    pub backward_efficiency: f64,
+    pub backward_efficiency: R,
 }
 
 /// Why [`WormGear::new`] refuses a gear.
@@ -327,7 +338,7 @@ impl GearMode {
     pub const MOVING: [i32; 4] = [1, -1, 2, -2];
 
     /// The mode moving in `direction` (its sign) with the power flowing forwards or back.
-    pub fn of(direction: f64, forward: bool) -> i32 {
+    pub fn of<R: Real>(direction: R, forward: bool) -> i32 {
         let magnitude = if forward { 1 } else { 2 };
         if direction < 0.0 {
             -magnitude
@@ -349,15 +360,15 @@ impl GearMode {
     /// The event indicator of a moving mode: positive while the high side's speed keeps the
     /// mode's direction and its torque the power's direction (the smaller of the two margins,
     /// each in its own unit: only its sign and its zero matter).
-    pub fn moving_margin(mode: i32, high_speed: f64, high_torque: f64) -> f64 {
+    pub fn moving_margin<R: Real>(mode: i32, high_speed: R, high_torque: R) -> R {
         let s = Self::direction(mode);
         let d = if Self::forward(mode) { 1.0 } else { -1.0 };
-        (s * high_speed).min(d * s * high_torque)
+        (high_speed * s).min(high_torque * (d * s))
     }
 
     /// At rest, how consistently a moving mode would start: positive when its own equations
     /// accelerate the high side in its direction with the power in its direction.
-    pub fn breakaway_margin(mode: i32, high_acceleration: f64, high_torque: f64) -> f64 {
+    pub fn breakaway_margin<R: Real>(mode: i32, high_acceleration: R, high_torque: R) -> R {
         Self::moving_margin(mode, high_acceleration, high_torque)
     }
 
@@ -369,11 +380,11 @@ impl GearMode {
     /// with the largest margin, so the update always agrees with the crossing that triggered it,
     /// even where the located point has the indicator at 0. Returns the mode and whether the
     /// speed must be set to exactly 0.
-    pub fn next(mode: i32, high_speed: f64, high_torque: f64, standstill: f64, start: impl Fn(i32) -> (f64, f64)) -> (i32, bool) {
+    pub fn next<R: Real>(mode: i32, high_speed: R, high_torque: R, standstill: f64, start: impl Fn(i32) -> (R, R)) -> (i32, bool) {
         // A moving mode whose speed has reversed passed through rest: decided as at rest, however
         // far past the zero the event was located (a Model Exchange master's root finder may
         // stop further past it than `standstill`, and must see the same stop as Co-Simulation).
-        let reversed = mode != Self::STUCK && Self::direction(mode) * high_speed <= 0.0;
+        let reversed = mode != Self::STUCK && high_speed * Self::direction(mode) <= 0.0;
         if !reversed && high_speed.abs() > standstill {
             let s = high_speed.signum();
             let forward = if high_torque == 0.0 && mode != Self::STUCK { Self::forward(mode) } else { s * high_torque >= 0.0 };
@@ -388,18 +399,18 @@ impl GearMode {
     }
 
     /// The moving mode that would start most consistently from rest, and its margin.
-    fn best_breakaway(start: impl Fn(i32) -> (f64, f64)) -> (i32, f64) {
+    fn best_breakaway<R: Real>(start: impl Fn(i32) -> (R, R)) -> (i32, R) {
         Self::MOVING
             .into_iter()
             .map(|m| {
                 let (acceleration, torque) = start(m);
                 (m, Self::breakaway_margin(m, acceleration, torque))
             })
-            .fold((Self::STUCK, f64::NEG_INFINITY), |best, candidate| if candidate.1 > best.1 { candidate } else { best })
+            .fold((Self::STUCK, R::from(f64::NEG_INFINITY)), |best, candidate| if candidate.1 > best.1 { candidate } else { best })
     }
 
     /// The event indicator at rest: positive while no moving mode would start consistently.
-    pub fn stuck_margin(start: impl Fn(i32) -> (f64, f64)) -> f64 {
+    pub fn stuck_margin<R: Real>(start: impl Fn(i32) -> (R, R)) -> R {
         -Self::best_breakaway(start).1
     }
 }
@@ -418,9 +429,9 @@ impl std::fmt::Display for WormGearError {
 
 impl std::error::Error for WormGearError {}
 
-impl From<Reducer> for WormGear {
+impl<R: Real> From<Reducer<R>> for WormGear<R> {
     /// A reducer is a worm gear with one efficiency both ways.
-    fn from(reducer: Reducer) -> Self {
+    fn from(reducer: Reducer<R>) -> Self {
         WormGear { ratio: reducer.ratio, forward_efficiency: reducer.efficiency, backward_efficiency: reducer.efficiency }
     }
 }
@@ -430,19 +441,21 @@ impl WormGear {
     pub const RATIO: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Transformer, what: "worm gear ratio" };
     /// ... and its efficiencies (the loss, a dissipation; see [`loss_flowing_w`](Self::loss_flowing_w)).
     pub const EFFICIENCY: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "worm gear efficiency (by power direction)" };
+}
 
+impl<R: Real> WormGear<R> {
     /// A checked worm gear: the ratio positive and finite, both efficiencies in (0, 1]; a
     /// backward efficiency <= 0 is [`WormGearError::SelfLocking`].
-    pub fn new(ratio: f64, forward_efficiency: f64, backward_efficiency: f64) -> Result<Self, WormGearError> {
-        let in_unit = |e: f64| e > 0.0 && e <= 1.0;
+    pub fn new(ratio: R, forward_efficiency: R, backward_efficiency: R) -> Result<Self, WormGearError> {
+        let in_unit = |e: R| e > 0.0 && e <= 1.0;
         if !(ratio > 0.0 && ratio.is_finite()) {
-            Err(WormGearError::OutOfRange { what: "ratio", value: ratio })
+            Err(WormGearError::OutOfRange { what: "ratio", value: ratio.value() })
         } else if !in_unit(forward_efficiency) {
-            Err(WormGearError::OutOfRange { what: "forward efficiency", value: forward_efficiency })
+            Err(WormGearError::OutOfRange { what: "forward efficiency", value: forward_efficiency.value() })
         } else if backward_efficiency <= 0.0 {
-            Err(WormGearError::SelfLocking { backward_efficiency })
+            Err(WormGearError::SelfLocking { backward_efficiency: backward_efficiency.value() })
         } else if !in_unit(backward_efficiency) {
-            Err(WormGearError::OutOfRange { what: "backward efficiency", value: backward_efficiency })
+            Err(WormGearError::OutOfRange { what: "backward efficiency", value: backward_efficiency.value() })
         } else {
             Ok(WormGear { ratio, forward_efficiency, backward_efficiency })
         }
@@ -461,7 +474,7 @@ impl WormGear {
     /// assert!((worm.forward_efficiency - 0.82454).abs() < 1e-5);
     /// assert!((worm.backward_efficiency - 0.80767).abs() < 1e-5);
     /// ```
-    pub fn from_lead_and_friction_angle(ratio: f64, lead_angle_rad: f64, friction_angle_rad: f64) -> Result<Self, WormGearError> {
+    pub fn from_lead_and_friction_angle(ratio: R, lead_angle_rad: R, friction_angle_rad: R) -> Result<Self, WormGearError> {
         let forward = lead_angle_rad.tan() / (lead_angle_rad + friction_angle_rad).tan();
         let backward = (lead_angle_rad - friction_angle_rad).tan() / lead_angle_rad.tan();
         Self::new(ratio, forward, backward)
@@ -477,25 +490,25 @@ impl WormGear {
     /// // mu = 0.05, alpha_n = 20 degrees: atan(0.05 / 0.93969) = 3.046 degrees.
     /// assert!((WormGear::friction_angle_rad(0.05, 20f64.to_radians()).to_degrees() - 3.046).abs() < 1e-3);
     /// ```
-    pub fn friction_angle_rad(friction_coefficient: f64, normal_pressure_angle_rad: f64) -> f64 {
+    pub fn friction_angle_rad(friction_coefficient: R, normal_pressure_angle_rad: R) -> R {
         (friction_coefficient / normal_pressure_angle_rad.cos()).atan()
     }
 
     /// Wheel (low-side) speed for a worm (high-side) speed, rad/s.
-    pub fn low_speed(&self, high_speed_rad_per_s: f64) -> f64 {
+    pub fn low_speed(&self, high_speed_rad_per_s: R) -> R {
         high_speed_rad_per_s / self.ratio
     }
 
     /// Wheel torque delivered for a worm torque, N m, the direction of the power from the sign
     /// of T w on the worm (as [`Reducer::low_side_torque_n_m`]).
-    pub fn low_side_torque_n_m(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+    pub fn low_side_torque_n_m(&self, high_torque_n_m: R, high_speed_rad_per_s: R) -> R {
         self.low_side_torque_flowing_n_m(high_torque_n_m, high_torque_n_m * high_speed_rad_per_s >= 0.0)
     }
 
     /// Wheel torque for a worm torque with the direction of the power given, N m: N eta_f T
     /// forward (`forward`: from the worm to the wheel), N T / eta_b backward (the worm then
     /// receives eta_b of the wheel's power).
-    pub fn low_side_torque_flowing_n_m(&self, high_torque_n_m: f64, forward: bool) -> f64 {
+    pub fn low_side_torque_flowing_n_m(&self, high_torque_n_m: R, forward: bool) -> R {
         if forward {
             self.ratio * self.forward_efficiency * high_torque_n_m
         } else {
@@ -505,18 +518,18 @@ impl WormGear {
 
     /// The event indicator of a power-flow mode (1: the power flows from the worm, -1: back):
     /// T w on the worm, signed to be positive while the mode holds.
-    pub fn power_flow_indicator(&self, mode: i32, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
-        f64::from(mode.signum()) * high_torque_n_m * high_speed_rad_per_s
+    pub fn power_flow_indicator(&self, mode: i32, high_torque_n_m: R, high_speed_rad_per_s: R) -> R {
+        high_torque_n_m * f64::from(mode.signum()) * high_speed_rad_per_s
     }
 
     /// The power-flow mode after an event: the sign of the power P; where P is exactly zero, the
     /// sign of dP/dt, and where that is zero too the mode holds (as
     /// [`Reducer::next_power_flow`]).
-    pub fn next_power_flow(&self, mode: i32, power_w: f64, power_rate_w_per_s: f64) -> i32 {
+    pub fn next_power_flow(&self, mode: i32, power_w: R, power_rate_w_per_s: R) -> i32 {
         if power_w != 0.0 {
-            power_w.signum() as i32
+            power_w.value().signum() as i32
         } else if power_rate_w_per_s != 0.0 {
-            power_rate_w_per_s.signum() as i32
+            power_rate_w_per_s.value().signum() as i32
         } else {
             mode
         }
@@ -524,7 +537,7 @@ impl WormGear {
 
     /// Worm torque that delivers a given wheel torque at a worm speed, N m (the inverse of
     /// `low_side_torque_n_m` at the same speed).
-    pub fn high_side_torque_n_m(&self, low_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+    pub fn high_side_torque_n_m(&self, low_torque_n_m: R, high_speed_rad_per_s: R) -> R {
         if low_torque_n_m * high_speed_rad_per_s >= 0.0 {
             low_torque_n_m / (self.ratio * self.forward_efficiency)
         } else {
@@ -533,12 +546,12 @@ impl WormGear {
     }
 
     /// A wheel-side inertia seen from the worm, J / N^2 (eqs. 3.4-3.7).
-    pub fn referred_inertia_kg_m2(&self, low_side_inertia_kg_m2: f64) -> f64 {
+    pub fn referred_inertia_kg_m2(&self, low_side_inertia_kg_m2: R) -> R {
         low_side_inertia_kg_m2 / (self.ratio * self.ratio)
     }
 
     /// Power lost in the gear, W (never negative).
-    pub fn loss_w(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64) -> f64 {
+    pub fn loss_w(&self, high_torque_n_m: R, high_speed_rad_per_s: R) -> R {
         let p_high = high_torque_n_m * high_speed_rad_per_s;
         let p_low = self.low_side_torque_n_m(high_torque_n_m, high_speed_rad_per_s) * self.low_speed(high_speed_rad_per_s);
         (p_high - p_low).abs()
@@ -547,7 +560,7 @@ impl WormGear {
     /// Power lost with the direction of the power given, the worm's power minus the wheel's, W:
     /// (1 - eta_f) T w forward, (1 - 1/eta_b) T w backward (T w < 0 there). Never negative while
     /// `forward` agrees with the sign of the power (as [`Reducer::loss_flowing_w`]).
-    pub fn loss_flowing_w(&self, high_torque_n_m: f64, high_speed_rad_per_s: f64, forward: bool) -> f64 {
+    pub fn loss_flowing_w(&self, high_torque_n_m: R, high_speed_rad_per_s: R, forward: bool) -> R {
         high_torque_n_m * high_speed_rad_per_s - self.low_side_torque_flowing_n_m(high_torque_n_m, forward) * self.low_speed(high_speed_rad_per_s)
     }
 }
@@ -560,27 +573,29 @@ impl WormGear {
 /// assert_eq!(fan.torque_n_m(-10.0), -4290.0); // always against the rotation
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FanLoad {
-    pub coefficient_n_m_s2_per_rad2: f64,
+pub struct FanLoad<R = f64> {
+    pub coefficient_n_m_s2_per_rad2: R,
 }
 
 impl FanLoad {
     /// Its effect (Table 3.1: "source of aerodynamic forces (function of rotational speed)"):
     /// it takes the power T w out of the drive, a dissipation.
     pub const LOAD: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Dissipation, what: "aerodynamic load" };
+}
 
+impl<R: Real> FanLoad<R> {
     /// The load that absorbs `nominal_torque_n_m` at `nominal_speed_rad_per_s`: k = T_n / w_n^2.
     /// ```
     /// use components::FanLoad;
     /// let load = FanLoad::from_nominal(1.75e5, 12.56);
     /// assert!((load.torque_n_m(12.56) - 1.75e5).abs() < 1e-9);
     /// ```
-    pub fn from_nominal(nominal_torque_n_m: f64, nominal_speed_rad_per_s: f64) -> Self {
+    pub fn from_nominal(nominal_torque_n_m: R, nominal_speed_rad_per_s: R) -> Self {
         FanLoad { coefficient_n_m_s2_per_rad2: nominal_torque_n_m / (nominal_speed_rad_per_s * nominal_speed_rad_per_s) }
     }
 
     /// T = k w |w|: against the rotation in both directions.
-    pub fn torque_n_m(&self, speed_rad_per_s: f64) -> f64 {
+    pub fn torque_n_m(&self, speed_rad_per_s: R) -> R {
         self.coefficient_n_m_s2_per_rad2 * speed_rad_per_s * speed_rad_per_s.abs()
     }
 
@@ -593,14 +608,14 @@ impl FanLoad {
     /// assert_eq!(load.unidirectional_torque_n_m(3.0), load.torque_n_m(3.0));
     /// assert_eq!(load.unidirectional_torque_n_m(-3.0), 18.0);
     /// ```
-    pub fn unidirectional_torque_n_m(&self, speed_rad_per_s: f64) -> f64 {
+    pub fn unidirectional_torque_n_m(&self, speed_rad_per_s: R) -> R {
         self.coefficient_n_m_s2_per_rad2 * speed_rad_per_s * speed_rad_per_s
     }
 }
 
 /// A propeller's hydrodynamic torque follows the same quadratic law as a fan's, T = a w |w|
 /// (chapter 3.5.3: "T = alpha w^2", the coupling with the submarine's forward speed ignored).
-pub type PropellerLoad = FanLoad;
+pub type PropellerLoad<R = f64> = FanLoad<R>;
 
 /// Coulomb friction with sticking (a seal on a shaft): while the body slips the friction torque is
 /// -T_c in the direction of slip; while it sticks the body stands still and the friction takes
@@ -609,11 +624,11 @@ pub type PropellerLoad = FanLoad;
 /// sign(w). The mode logic knows no units (an effort and a flow): the translational
 /// [`SlidingFriction`](crate::translational::SlidingFriction) runs on it with forces and velocities.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CoulombFriction {
+pub struct CoulombFriction<R = f64> {
     /// T_c, N m: the torque while slipping.
-    pub coulomb_n_m: f64,
+    pub coulomb_n_m: R,
     /// T_s >= T_c, N m: the largest torque it holds while stuck.
-    pub static_n_m: f64,
+    pub static_n_m: R,
 }
 
 impl CoulombFriction {
@@ -622,9 +637,11 @@ impl CoulombFriction {
 
     /// Below this speed a body in the stuck mode stands still (1e-9 rad/s: a turn in 200 years).
     pub const STANDSTILL_RAD_PER_S: f64 = 1e-9;
+}
 
+impl<R: Real> CoulombFriction<R> {
     /// The friction torque on a body slipping in `direction` (+-1; 0 when stuck), N m.
-    pub fn slip_torque_n_m(&self, direction: i32) -> f64 {
+    pub fn slip_torque_n_m(&self, direction: i32) -> R {
         -self.coulomb_n_m * direction as f64
     }
 
@@ -632,11 +649,11 @@ impl CoulombFriction {
     /// body stops); stuck, the margin T_s - |T_required| (it reaches zero when the body breaks
     /// loose). `required_n_m` is the torque the friction must take to hold the body still: the sum
     /// of every other torque on it.
-    pub fn indicator(&self, mode: i32, speed_rad_per_s: f64, required_n_m: f64) -> f64 {
+    pub fn indicator(&self, mode: i32, speed_rad_per_s: R, required_n_m: R) -> R {
         if mode == 0 {
             self.static_n_m - required_n_m.abs()
         } else {
-            mode as f64 * speed_rad_per_s
+            speed_rad_per_s * mode as f64
         }
     }
 
@@ -650,11 +667,11 @@ impl CoulombFriction {
     /// A stuck body counts as moving only above [`CoulombFriction::STANDSTILL_RAD_PER_S`]: its speed
     /// has a zero derivative, but a Model Exchange master's integrator may leave round-off on it
     /// (fmpy's CVode: -1.9e-22 rad/s at ShaftLine's breakaway), which must not pick the direction.
-    pub fn next_mode(&self, mode: i32, speed_rad_per_s: f64, required_n_m: f64) -> (i32, bool) {
+    pub fn next_mode(&self, mode: i32, speed_rad_per_s: R, required_n_m: R) -> (i32, bool) {
         let pushed = if required_n_m > 0.0 { 1 } else { -1 };
-        let holds = self.indicator(0, 0.0, required_n_m) > 0.0;
+        let holds = self.indicator(0, R::from(0.0), required_n_m) > 0.0;
         match mode {
-            0 if speed_rad_per_s.abs() > Self::STANDSTILL_RAD_PER_S => (if speed_rad_per_s > 0.0 { 1 } else { -1 }, false),
+            0 if speed_rad_per_s.abs() > CoulombFriction::<f64>::STANDSTILL_RAD_PER_S => (if speed_rad_per_s > 0.0 { 1 } else { -1 }, false),
             0 if !holds => (pushed, false),
             0 => (0, false),
             d if self.indicator(d, speed_rad_per_s, required_n_m) <= 0.0 => {
@@ -669,7 +686,7 @@ impl CoulombFriction {
     }
 
     /// Power dissipated while slipping, W (zero while stuck: the body does not move).
-    pub fn power_w(&self, mode: i32, speed_rad_per_s: f64) -> f64 {
+    pub fn power_w(&self, mode: i32, speed_rad_per_s: R) -> R {
         (self.slip_torque_n_m(mode) * speed_rad_per_s).abs()
     }
 }

@@ -16,6 +16,7 @@
 //! assert!((plate.pull_in_voltage_v(k) - 5.019).abs() < 1e-3);
 //! ```
 
+use fmu_runtime::real::Real;
 use fmu_runtime::elements::{Domain, Effect, Kind};
 use std::f64::consts::PI;
 
@@ -52,7 +53,7 @@ pub const GAS_CONSTANT_J_PER_MOL_K: f64 = 8.314462618;
 /// // 160 GPa, 2 x 2 um, 100 um: 160e9 x 2e-6 x 8e-18 / 1e-12 = 2.56 N/m.
 /// assert!((fixed_guided_beam_stiffness_n_per_m(160e9, 2e-6, 2e-6, 100e-6) - 2.56).abs() < 1e-12);
 /// ```
-pub fn fixed_guided_beam_stiffness_n_per_m(young_modulus_pa: f64, thickness_m: f64, width_m: f64, length_m: f64) -> f64 {
+pub fn fixed_guided_beam_stiffness_n_per_m<R: Real>(young_modulus_pa: R, thickness_m: R, width_m: R, length_m: R) -> R {
     young_modulus_pa * thickness_m * width_m.powi(3) / length_m.powi(3)
 }
 
@@ -68,8 +69,8 @@ pub fn fixed_guided_beam_stiffness_n_per_m(young_modulus_pa: f64, thickness_m: f
 /// assert!((k - 4.0 * beam / 2.0).abs() < 1e-12); // 4 folds in parallel, 2 beams in series each
 /// assert!((k - 6.5752).abs() < 1e-4);
 /// ```
-pub fn folded_flexure_stiffness_n_per_m(young_modulus_pa: f64, thickness_m: f64, width_m: f64, length_m: f64) -> f64 {
-    2.0 * fixed_guided_beam_stiffness_n_per_m(young_modulus_pa, thickness_m, width_m, length_m)
+pub fn folded_flexure_stiffness_n_per_m<R: Real>(young_modulus_pa: R, thickness_m: R, width_m: R, length_m: R) -> R {
+    fixed_guided_beam_stiffness_n_per_m(young_modulus_pa, thickness_m, width_m, length_m) * 2.0
 }
 
 /// Mean free path of a gas's molecules, lambda = (mu / p) sqrt(pi R T / (2 M)), m (kinetic
@@ -80,8 +81,8 @@ pub fn folded_flexure_stiffness_n_per_m(young_modulus_pa: f64, thickness_m: f64,
 /// let lambda = mean_free_path_m(AIR_VISCOSITY_PA_S, 101_325.0, 298.15, AIR_MOLAR_MASS_KG_PER_MOL);
 /// assert!((lambda - 66.94e-9).abs() < 0.01e-9);
 /// ```
-pub fn mean_free_path_m(viscosity_pa_s: f64, pressure_pa: f64, temperature_k: f64, molar_mass_kg_per_mol: f64) -> f64 {
-    viscosity_pa_s / pressure_pa * (PI * GAS_CONSTANT_J_PER_MOL_K * temperature_k / (2.0 * molar_mass_kg_per_mol)).sqrt()
+pub fn mean_free_path_m<R: Real>(viscosity_pa_s: R, pressure_pa: R, temperature_k: R, molar_mass_kg_per_mol: R) -> R {
+    viscosity_pa_s / pressure_pa * (temperature_k * (PI * GAS_CONSTANT_J_PER_MOL_K) / (molar_mass_kg_per_mol * 2.0)).sqrt()
 }
 
 /// Effective viscosity of a squeezed gas film whose gap is not many mean free paths wide (slip
@@ -95,8 +96,8 @@ pub fn mean_free_path_m(viscosity_pa_s: f64, pressure_pa: f64, temperature_k: f6
 /// // A 1 um gap in air (Kn = 0.0669): 70 % of the viscosity.
 /// assert!((squeeze_film_effective_viscosity_pa_s(1.85e-5, 0.06694) / 1.85e-5 - 0.7043).abs() < 1e-4);
 /// ```
-pub fn squeeze_film_effective_viscosity_pa_s(viscosity_pa_s: f64, knudsen: f64) -> f64 {
-    viscosity_pa_s / (1.0 + 9.638 * knudsen.powf(1.159))
+pub fn squeeze_film_effective_viscosity_pa_s<R: Real>(viscosity_pa_s: R, knudsen: R) -> R {
+    viscosity_pa_s / (knudsen.powf(R::from(1.159)) * 9.638 + 1.0)
 }
 
 /// Effective viscosity of a gas film sheared between two plates sliding past each other (Couette
@@ -105,8 +106,8 @@ pub fn squeeze_film_effective_viscosity_pa_s(viscosity_pa_s: f64, knudsen: f64) 
 /// use components::mems::slide_film_effective_viscosity_pa_s;
 /// assert!((slide_film_effective_viscosity_pa_s(1.85e-5, 0.05) - 1.85e-5 / 1.1).abs() < 1e-18);
 /// ```
-pub fn slide_film_effective_viscosity_pa_s(viscosity_pa_s: f64, knudsen: f64) -> f64 {
-    viscosity_pa_s / (1.0 + 2.0 * knudsen)
+pub fn slide_film_effective_viscosity_pa_s<R: Real>(viscosity_pa_s: R, knudsen: R) -> R {
+    viscosity_pa_s / (knudsen * 2.0 + 1.0)
 }
 
 /// Damping coefficient of a squeezed film between two parallel strips of length L and width W
@@ -124,7 +125,7 @@ pub fn slide_film_effective_viscosity_pa_s(viscosity_pa_s: f64, knudsen: f64) ->
 /// // Halving the gap damps 8 times more.
 /// assert!((squeeze_film_strip_damping_n_s_per_m(1.85e-5, 104e-6, 2e-6, 0.5e-6) / b - 8.0).abs() < 1e-12);
 /// ```
-pub fn squeeze_film_strip_damping_n_s_per_m(viscosity_pa_s: f64, length_m: f64, width_m: f64, gap_m: f64) -> f64 {
+pub fn squeeze_film_strip_damping_n_s_per_m<R: Real>(viscosity_pa_s: R, length_m: R, width_m: R, gap_m: R) -> R {
     viscosity_pa_s * length_m * width_m.powi(3) / gap_m.powi(3)
 }
 
@@ -136,7 +137,7 @@ pub fn squeeze_film_strip_damping_n_s_per_m(viscosity_pa_s: f64, length_m: f64, 
 /// // 6.18e-8 m2 of proof mass 1.6 um above the substrate: 1.85e-5 x 6.18e-8 / 1.6e-6 = 7.146e-7 N s/m.
 /// assert!((slide_film_damping_n_s_per_m(1.85e-5, 6.18e-8, 1.6e-6) - 7.1456e-7).abs() < 1e-11);
 /// ```
-pub fn slide_film_damping_n_s_per_m(viscosity_pa_s: f64, area_m2: f64, gap_m: f64) -> f64 {
+pub fn slide_film_damping_n_s_per_m<R: Real>(viscosity_pa_s: R, area_m2: R, gap_m: R) -> R {
     viscosity_pa_s * area_m2 / gap_m
 }
 
@@ -165,13 +166,13 @@ pub fn slide_film_damping_n_s_per_m(viscosity_pa_s: f64, area_m2: f64, gap_m: f6
 /// assert!((dw / c.force_n(v2, s) - 1.0).abs() < 1e-6);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ParallelPlate {
+pub struct ParallelPlate<R = f64> {
     /// eps0 eps_r of the gap's medium, F/m.
-    pub permittivity_f_per_m: f64,
+    pub permittivity_f_per_m: R,
     /// Overlapping electrode area, m2.
-    pub area_m2: f64,
+    pub area_m2: R,
     /// Gap at s = 0, m.
-    pub gap_m: f64,
+    pub gap_m: R,
 }
 
 impl ParallelPlate {
@@ -180,50 +181,52 @@ impl ParallelPlate {
     pub const TRANSDUCER: Effect = Effect { domains: &[Domain::Electrical, Domain::Translational], kind: Kind::StorageC, what: "capacitive transducer (parallel plates)" };
     /// The voltage that charges it: a source in the electrical domain.
     pub const DRIVE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Source, what: "electrode voltage" };
+}
 
+impl<R: Real> ParallelPlate<R> {
     /// eps A, F m.
-    pub fn permittivity_area_f_m(&self) -> f64 {
+    pub fn permittivity_area_f_m(&self) -> R {
         self.permittivity_f_per_m * self.area_m2
     }
 
     /// C = eps A / (g - s), F.
-    pub fn capacitance_f(&self, displacement_m: f64) -> f64 {
+    pub fn capacitance_f(&self, displacement_m: R) -> R {
         self.permittivity_area_f_m() / (self.gap_m - displacement_m)
     }
 
     /// dC/ds = eps A / (g - s)^2, F/m.
-    pub fn capacitance_gradient_f_per_m(&self, displacement_m: f64) -> f64 {
+    pub fn capacitance_gradient_f_per_m(&self, displacement_m: R) -> R {
         let gap = self.gap_m - displacement_m;
         self.permittivity_area_f_m() / (gap * gap)
     }
 
     /// The electrode's pull on the plate, towards the electrode, (V^2/2) dC/ds, N.
-    pub fn force_n(&self, mean_square_voltage_v2: f64, displacement_m: f64) -> f64 {
-        0.5 * mean_square_voltage_v2 * self.capacitance_gradient_f_per_m(displacement_m)
+    pub fn force_n(&self, mean_square_voltage_v2: R, displacement_m: R) -> R {
+        mean_square_voltage_v2 * 0.5 * self.capacitance_gradient_f_per_m(displacement_m)
     }
 
     /// The electrostatic stiffness dF/ds = eps A V^2 / (g - s)^3, N/m: positive, it softens the
     /// suspension it acts against.
-    pub fn softening_n_per_m(&self, mean_square_voltage_v2: f64, displacement_m: f64) -> f64 {
+    pub fn softening_n_per_m(&self, mean_square_voltage_v2: R, displacement_m: R) -> R {
         let gap = self.gap_m - displacement_m;
         self.permittivity_area_f_m() * mean_square_voltage_v2 / (gap * gap * gap)
     }
 
     /// Stored energy C V^2 / 2, J.
-    pub fn energy_j(&self, mean_square_voltage_v2: f64, displacement_m: f64) -> f64 {
-        0.5 * self.capacitance_f(displacement_m) * mean_square_voltage_v2
+    pub fn energy_j(&self, mean_square_voltage_v2: R, displacement_m: R) -> R {
+        self.capacitance_f(displacement_m) * 0.5 * mean_square_voltage_v2
     }
 
     /// dW/dt = (V^2/2) dC/dt + (C/2) d(V^2)/dt, W.
-    pub fn storage_power_w(&self, mean_square_voltage_v2: f64, mean_square_rate_v2_per_s: f64, displacement_m: f64, velocity_m_per_s: f64) -> f64 {
-        0.5 * mean_square_voltage_v2 * self.capacitance_gradient_f_per_m(displacement_m) * velocity_m_per_s
-            + 0.5 * self.capacitance_f(displacement_m) * mean_square_rate_v2_per_s
+    pub fn storage_power_w(&self, mean_square_voltage_v2: R, mean_square_rate_v2_per_s: R, displacement_m: R, velocity_m_per_s: R) -> R {
+        mean_square_voltage_v2 * 0.5 * self.capacitance_gradient_f_per_m(displacement_m) * velocity_m_per_s
+            + self.capacitance_f(displacement_m) * 0.5 * mean_square_rate_v2_per_s
     }
 
     /// Power the voltage source delivers, V i = V^2 dC/dt + (C/2) d(V^2)/dt, W.
-    pub fn source_power_w(&self, mean_square_voltage_v2: f64, mean_square_rate_v2_per_s: f64, displacement_m: f64, velocity_m_per_s: f64) -> f64 {
+    pub fn source_power_w(&self, mean_square_voltage_v2: R, mean_square_rate_v2_per_s: R, displacement_m: R, velocity_m_per_s: R) -> R {
         mean_square_voltage_v2 * self.capacitance_gradient_f_per_m(displacement_m) * velocity_m_per_s
-            + 0.5 * self.capacitance_f(displacement_m) * mean_square_rate_v2_per_s
+            + self.capacitance_f(displacement_m) * 0.5 * mean_square_rate_v2_per_s
     }
 
     /// The pull-in voltage of a plate on a linear spring k facing this one electrode alone:
@@ -239,8 +242,8 @@ impl ParallelPlate {
     /// assert!((k * s / c.force_n(v * v, s) - 1.0).abs() < 1e-12);
     /// assert!((k / c.softening_n_per_m(v * v, s) - 1.0).abs() < 1e-12);
     /// ```
-    pub fn pull_in_voltage_v(&self, stiffness_n_per_m: f64) -> f64 {
-        (8.0 * stiffness_n_per_m * self.gap_m.powi(3) / (27.0 * self.permittivity_area_f_m())).sqrt()
+    pub fn pull_in_voltage_v(&self, stiffness_n_per_m: R) -> R {
+        (stiffness_n_per_m * 8.0 * self.gap_m.powi(3) / (self.permittivity_area_f_m() * 27.0)).sqrt()
     }
 
     /// The pull-in voltage of a plate between two such electrodes at the same voltage (the
@@ -252,8 +255,8 @@ impl ParallelPlate {
     /// let v = c.symmetric_pull_in_voltage_v(2.0);
     /// assert!((2.0 - 2.0 * c.softening_n_per_m(v * v, 0.0)).abs() < 1e-12);
     /// ```
-    pub fn symmetric_pull_in_voltage_v(&self, stiffness_n_per_m: f64) -> f64 {
-        (stiffness_n_per_m * self.gap_m.powi(3) / (2.0 * self.permittivity_area_f_m())).sqrt()
+    pub fn symmetric_pull_in_voltage_v(&self, stiffness_n_per_m: R) -> R {
+        (stiffness_n_per_m * self.gap_m.powi(3) / (self.permittivity_area_f_m() * 2.0)).sqrt()
     }
 }
 
@@ -272,33 +275,35 @@ impl ParallelPlate {
 /// assert!((film.power_w(0.0, 1e-3) - 9.0854e-13).abs() < 1e-17); // b v^2
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SqueezeFilm {
-    pub effective_viscosity_pa_s: f64,
+pub struct SqueezeFilm<R = f64> {
+    pub effective_viscosity_pa_s: R,
     /// Area of one side's films (the capacitor's electrode area), m2.
-    pub area_m2: f64,
+    pub area_m2: R,
     /// Width the gas escapes across (the fingers' thickness), m.
-    pub width_m: f64,
+    pub width_m: R,
     /// Gap at rest, m.
-    pub gap_m: f64,
+    pub gap_m: R,
 }
 
 impl SqueezeFilm {
     /// Its effect (Table 3.1): a dissipation in translation.
     pub const DAMPING: Effect = Effect { domains: &[Domain::Translational], kind: Kind::Dissipation, what: "squeeze-film damping" };
+}
 
+impl<R: Real> SqueezeFilm<R> {
     /// b(s), N s/m.
-    pub fn damping_n_s_per_m(&self, displacement_m: f64) -> f64 {
-        let side = |gap: f64| squeeze_film_strip_damping_n_s_per_m(self.effective_viscosity_pa_s, self.area_m2 / self.width_m, self.width_m, gap);
+    pub fn damping_n_s_per_m(&self, displacement_m: R) -> R {
+        let side = |gap: R| squeeze_film_strip_damping_n_s_per_m(self.effective_viscosity_pa_s, self.area_m2 / self.width_m, self.width_m, gap);
         side(self.gap_m - displacement_m) + side(self.gap_m + displacement_m)
     }
 
     /// The film's force on the plate, -b(s) v, N.
-    pub fn force_n(&self, displacement_m: f64, velocity_m_per_s: f64) -> f64 {
+    pub fn force_n(&self, displacement_m: R, velocity_m_per_s: R) -> R {
         -self.damping_n_s_per_m(displacement_m) * velocity_m_per_s
     }
 
     /// Power dissipated, b(s) v^2, W (never negative).
-    pub fn power_w(&self, displacement_m: f64, velocity_m_per_s: f64) -> f64 {
+    pub fn power_w(&self, displacement_m: R, velocity_m_per_s: R) -> R {
         self.damping_n_s_per_m(displacement_m) * velocity_m_per_s * velocity_m_per_s
     }
 }
@@ -311,19 +316,21 @@ impl SqueezeFilm {
 /// assert!((film.damper().damping_n_s_per_m - 6.5856e-7).abs() < 1e-11);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SlideFilm {
-    pub effective_viscosity_pa_s: f64,
+pub struct SlideFilm<R = f64> {
+    pub effective_viscosity_pa_s: R,
     /// The moving plate's area facing the substrate, m2.
-    pub area_m2: f64,
+    pub area_m2: R,
     /// Its height above the substrate, m.
-    pub gap_m: f64,
+    pub gap_m: R,
 }
 
 impl SlideFilm {
     /// Its effect (Table 3.1): a dissipation in translation.
     pub const DAMPING: Effect = Effect { domains: &[Domain::Translational], kind: Kind::Dissipation, what: "slide-film (Couette) damping" };
+}
 
-    pub fn damper(&self) -> crate::TranslationalDamper {
+impl<R: Real> SlideFilm<R> {
+    pub fn damper(&self) -> crate::TranslationalDamper<R> {
         crate::TranslationalDamper { damping_n_s_per_m: slide_film_damping_n_s_per_m(self.effective_viscosity_pa_s, self.area_m2, self.gap_m) }
     }
 }
@@ -337,21 +344,23 @@ impl SlideFilm {
 /// assert!((inertial.power_w(98.0665, -1e-3) - 2.8214e-11).abs() < 1e-15); // F v
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FrameAcceleration {
-    pub mass_kg: f64,
+pub struct FrameAcceleration<R = f64> {
+    pub mass_kg: R,
 }
 
 impl FrameAcceleration {
     /// Its effect (Table 3.1): a source in translation.
     pub const SOURCE: Effect = Effect { domains: &[Domain::Translational], kind: Kind::Source, what: "frame acceleration (inertial force -m a)" };
+}
 
+impl<R: Real> FrameAcceleration<R> {
     /// -m a, N.
-    pub fn force_n(&self, acceleration_m_per_s2: f64) -> f64 {
+    pub fn force_n(&self, acceleration_m_per_s2: R) -> R {
         -self.mass_kg * acceleration_m_per_s2
     }
 
     /// Power into the relative motion, -m a v, W.
-    pub fn power_w(&self, acceleration_m_per_s2: f64, velocity_m_per_s: f64) -> f64 {
+    pub fn power_w(&self, acceleration_m_per_s2: R, velocity_m_per_s: R) -> R {
         self.force_n(acceleration_m_per_s2) * velocity_m_per_s
     }
 }

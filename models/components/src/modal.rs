@@ -8,6 +8,7 @@
 //! give M q'' + K q = 0; the natural angular frequencies w solve det(K - w^2 M) = 0:
 //! m1 m2 w^4 - (m1 k22 + m2 k11) w^2 + (k11 k22 - k12^2) = 0.
 
+use fmu_runtime::real::Real;
 use std::f64::consts::PI;
 
 /// Two bodies of (generalised) masses m1 and m2 with the symmetric stiffness matrix
@@ -28,15 +29,15 @@ use std::f64::consts::PI;
 /// assert!((shaft_mode - shaft.natural_frequency_hz(1.72, 11.72)).abs() < 1e-12);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TwoDegreesOfFreedom {
-    pub m1: f64,
-    pub m2: f64,
-    pub k11: f64,
-    pub k12: f64,
-    pub k22: f64,
+pub struct TwoDegreesOfFreedom<R = f64> {
+    pub m1: R,
+    pub m2: R,
+    pub k11: R,
+    pub k12: R,
+    pub k22: R,
 }
 
-impl TwoDegreesOfFreedom {
+impl<R: Real> TwoDegreesOfFreedom<R> {
     /// The chain ground - k1 - body 1 - coupling spring - body 2 - k2 - ground, where the coupling
     /// spring (stiffness kc) stretches by `lever` q1 - q2: body 1 turns (q1 an angle, m1 an inertia)
     /// and meets the spring at the arm `lever`, body 2 translates along it. Its elastic energy
@@ -55,25 +56,25 @@ impl TwoDegreesOfFreedom {
     /// let massless = ((8.709e5 + 1.35f64.powi(2) * k_s) / 1400.0).sqrt() / (2.0 * std::f64::consts::PI);
     /// assert!((f_low / massless - 1.0).abs() < 0.01);
     /// ```
-    pub fn chain(m1: f64, m2: f64, k1: f64, k2: f64, kc: f64, lever: f64) -> Self {
+    pub fn chain(m1: R, m2: R, k1: R, k2: R, kc: R, lever: R) -> Self {
         TwoDegreesOfFreedom { m1, m2, k11: k1 + kc * lever * lever, k12: -kc * lever, k22: kc + k2 }
     }
 
     /// The two natural angular frequencies (low, high), rad/s. The discriminant is written
     /// (m1 k22 - m2 k11)^2 + 4 m1 m2 k12^2 (never negative) and the low root as c / (the high
     /// root's m1 m2 w^2), so neither loses digits to cancellation.
-    pub fn natural_angular_frequencies_rad_per_s(&self) -> (f64, f64) {
+    pub fn natural_angular_frequencies_rad_per_s(&self) -> (R, R) {
         let a = self.m1 * self.m2;
         let b = self.m1 * self.k22 + self.m2 * self.k11;
         let c = self.k11 * self.k22 - self.k12 * self.k12;
-        let d = (self.m1 * self.k22 - self.m2 * self.k11).powi(2) + 4.0 * a * self.k12 * self.k12;
-        let high_sq = (b + d.sqrt()) / (2.0 * a);
-        let low_sq = if high_sq > 0.0 { c / (a * high_sq) } else { 0.0 };
-        (low_sq.max(0.0).sqrt(), high_sq.max(0.0).sqrt())
+        let d = (self.m1 * self.k22 - self.m2 * self.k11).powi(2) + a * 4.0 * self.k12 * self.k12;
+        let high_sq = (b + d.sqrt()) / (a * 2.0);
+        let low_sq = if high_sq > 0.0 { c / (a * high_sq) } else { R::from(0.0) };
+        (low_sq.max(R::from(0.0)).sqrt(), high_sq.max(R::from(0.0)).sqrt())
     }
 
     /// The two natural frequencies (low, high), Hz.
-    pub fn natural_frequencies_hz(&self) -> (f64, f64) {
+    pub fn natural_frequencies_hz(&self) -> (R, R) {
         let (low, high) = self.natural_angular_frequencies_rad_per_s();
         (low / (2.0 * PI), high / (2.0 * PI))
     }

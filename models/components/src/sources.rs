@@ -1,5 +1,6 @@
 //! Sources: the effort a model imposes from outside.
 
+use fmu_runtime::real::Real;
 use fmu_runtime::elements::{Domain, Effect, Kind};
 use std::f64::consts::PI;
 
@@ -10,21 +11,23 @@ use std::f64::consts::PI;
 /// assert!((u.voltage_v(0.005) - 10.0).abs() < 1e-12); // a quarter period
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SineVoltage {
-    pub amplitude_v: f64,
-    pub frequency_hz: f64,
+pub struct SineVoltage<R = f64> {
+    pub amplitude_v: R,
+    pub frequency_hz: R,
 }
 
 impl SineVoltage {
     /// Its effect (Table 3.1): an electrical source.
     pub const SOURCE: Effect = Effect { domains: &[Domain::Electrical], kind: Kind::Source, what: "voltage source" };
+}
 
-    pub fn angular_frequency_rad_per_s(&self) -> f64 {
-        2.0 * PI * self.frequency_hz
+impl<R: Real> SineVoltage<R> {
+    pub fn angular_frequency_rad_per_s(&self) -> R {
+        self.frequency_hz * (2.0 * PI)
     }
 
     /// Voltage at time t, V.
-    pub fn voltage_v(&self, time_s: f64) -> f64 {
+    pub fn voltage_v(&self, time_s: R) -> R {
         self.amplitude_v * (self.angular_frequency_rad_per_s() * time_s).sin()
     }
 }
@@ -40,8 +43,8 @@ impl SineVoltage {
 /// assert!((unbalance.power_w(0.5) + 980.665).abs() < 1e-9); // lifting at 0.5 m/s takes m g v
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Weight {
-    pub mass_kg: f64,
+pub struct Weight<R = f64> {
+    pub mass_kg: R,
 }
 
 impl Weight {
@@ -49,14 +52,16 @@ impl Weight {
     pub const STANDARD_GRAVITY_M_PER_S2: f64 = 9.80665;
     /// Its effect (Table 3.1): a source in translation (gravity).
     pub const GRAVITY: Effect = Effect { domains: &[Domain::Translational], kind: Kind::Source, what: "weight (gravity)" };
+}
 
+impl<R: Real> Weight<R> {
     /// The downward force m g, N.
-    pub fn force_n(&self) -> f64 {
-        self.mass_kg * Self::STANDARD_GRAVITY_M_PER_S2
+    pub fn force_n(&self) -> R {
+        self.mass_kg * Weight::<f64>::STANDARD_GRAVITY_M_PER_S2
     }
 
     /// Power the weight delivers while the mass moves up at `upward_speed_m_per_s`, -m g v, W.
-    pub fn power_w(&self, upward_speed_m_per_s: f64) -> f64 {
+    pub fn power_w(&self, upward_speed_m_per_s: R) -> R {
         -self.force_n() * upward_speed_m_per_s
     }
 }
@@ -72,16 +77,16 @@ impl Weight {
 /// assert_eq!(torque.next_kink(0.0), Some(0.01)); // where a solver must stop
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ramp {
-    pub start_s: f64,
-    pub duration_s: f64,
-    pub height: f64,
+pub struct Ramp<R = f64> {
+    pub start_s: R,
+    pub duration_s: R,
+    pub height: R,
 }
 
-impl Ramp {
-    pub fn value(&self, time_s: f64) -> f64 {
+impl<R: Real> Ramp<R> {
+    pub fn value(&self, time_s: R) -> R {
         if time_s < self.start_s {
-            0.0
+            R::from(0.0)
         } else if time_s >= self.start_s + self.duration_s {
             self.height
         } else {
@@ -95,16 +100,16 @@ impl Ramp {
     /// let r = Ramp { start_s: 1.0, duration_s: 2.0, height: 4.0 };
     /// assert_eq!((r.slope(0.5), r.slope(2.0), r.slope(3.5)), (0.0, 2.0, 0.0));
     /// ```
-    pub fn slope(&self, time_s: f64) -> f64 {
+    pub fn slope(&self, time_s: R) -> R {
         if self.duration_s > 0.0 && time_s >= self.start_s && time_s < self.start_s + self.duration_s {
             self.height / self.duration_s
         } else {
-            0.0
+            R::from(0.0)
         }
     }
 
     /// The kinks (or the step) after `after`, for the solver to stop at.
-    pub fn next_kink(&self, after: f64) -> Option<f64> {
+    pub fn next_kink(&self, after: R) -> Option<R> {
         [self.start_s, self.start_s + self.duration_s].into_iter().find(|t| *t > after)
     }
 }

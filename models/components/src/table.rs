@@ -2,8 +2,9 @@
 //! circuit: the book's cooling-tower models at levels a-c (book file Chap3_CoolingTowerFan.mo,
 //! component TorqueSpeed, a CombiTable1D read at the motor speed, Figure 3.5).
 
-use crate::roots::bisect;
+use crate::roots::{bisect, with_derivatives};
 use fmu_runtime::elements::{Domain, Effect, Kind};
+use fmu_runtime::real::Real;
 
 /// How a table is read between its points.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,6 +22,9 @@ pub enum Interpolation {
 /// A torque-speed characteristic T(w) through `N` >= 3 points of increasing speed. Outside its
 /// speeds it continues along a straight line: through the last two points (linear) or along the
 /// curve's tangent at the end point (Akima), the "last two points" extrapolation of CombiTable1D.
+/// The points are of any scalar (`f64` by default: a model's parameters); the segment is chosen
+/// by the speed's value and its polynomial evaluated in the scalar, so that the torque carries
+/// the derivatives of the speed and of the points.
 /// ```
 /// use components::{Interpolation, TorqueSpeedTable};
 /// let motor = TorqueSpeedTable { speed_rad_per_s: [0.0, 100.0, 200.0], torque_n_m: [500.0, 800.0, 0.0], interpolation: Interpolation::Linear };
@@ -31,9 +35,9 @@ pub enum Interpolation {
 /// assert!((w - 1500.0 / 9.0).abs() < 1e-9);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TorqueSpeedTable<const N: usize> {
-    pub speed_rad_per_s: [f64; N],
-    pub torque_n_m: [f64; N],
+pub struct TorqueSpeedTable<const N: usize, R = f64> {
+    pub speed_rad_per_s: [R; N],
+    pub torque_n_m: [R; N],
     pub interpolation: Interpolation,
 }
 
@@ -41,26 +45,28 @@ impl<const N: usize> TorqueSpeedTable<N> {
     /// Its effect: the motor seen by its steady torque-speed characteristic, a source of
     /// torque on the shaft (the supply, the windings and the transformer of Table 3.1 lumped).
     pub const SOURCE: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Source, what: "motor torque-speed characteristic" };
+}
 
+impl<const N: usize, R: Real> TorqueSpeedTable<N, R> {
     /// The slope of segment `i` (between points i and i + 1); beyond the ends, Akima's linear
     /// extension of the segment slopes.
-    fn segment_slope(&self, i: isize) -> f64 {
+    fn segment_slope(&self, i: isize) -> R {
         let (x, y) = (&self.speed_rad_per_s, &self.torque_n_m);
         let last = N as isize - 2;
         let slope = |j: usize| (y[j + 1] - y[j]) / (x[j + 1] - x[j]);
         if i < 0 {
             let (m0, m1) = (slope(0), slope(1.min(N - 2)));
-            m0 + (-i) as f64 * (m0 - m1)
+            m0 + (m0 - m1) * (-i) as f64
         } else if i > last {
             let (m0, m1) = (slope(N - 2), slope((N - 3).min(N - 2)));
-            m0 + (i - last) as f64 * (m0 - m1)
+            m0 + (m0 - m1) * (i - last) as f64
         } else {
             slope(i as usize)
         }
     }
 
     /// The curve's slope at point `i`, dT/dw in N m per rad/s.
-    fn point_slope(&self, i: usize) -> f64 {
+    fn point_slope(&self, i: usize) -> R {
         match self.interpolation {
             Interpolation::Linear => self.segment_slope(i.min(N - 2) as isize),
             Interpolation::Akima => {
@@ -68,7 +74,7 @@ impl<const N: usize> TorqueSpeedTable<N> {
                 let (m_2, m_1, m0, m1) = (self.segment_slope(i - 2), self.segment_slope(i - 1), self.segment_slope(i), self.segment_slope(i + 1));
                 let (w_left, w_right) = ((m1 - m0).abs(), (m_1 - m_2).abs());
                 if w_left + w_right == 0.0 {
-                    0.5 * (m_1 + m0)
+                    (m_1 + m0) * 0.5
                 } else {
                     (w_left * m_1 + w_right * m0) / (w_left + w_right)
                 }
@@ -77,7 +83,7 @@ impl<const N: usize> TorqueSpeedTable<N> {
     }
 
     /// T(w), N m.
-    pub fn torque_n_m(&self, speed_rad_per_s: f64) -> f64 {
+    pub fn torque_n_m(&self, speed_rad_per_s: R) -> R {
         let (x, y) = (&self.speed_rad_per_s, &self.torque_n_m);
         let w = speed_rad_per_s;
         if w <= x[0] || w >= x[N - 1] {
@@ -90,18 +96,19 @@ impl<const N: usize> TorqueSpeedTable<N> {
         }
         // w is strictly inside (x[0], x[N-1]) here; the clamp keeps a NaN speed (which fails
         // every comparison above) on a segment instead of indexing out of bounds.
-        let i = x.partition_point(|&xi| xi <= w).saturating_sub(1).min(N - 2);
+        let i = x.partition_point(|xi| *xi <= w).saturating_sub(1).min(N - 2);
         let h = x[i + 1] - x[i];
         match self.interpolation {
             Interpolation::Linear => y[i] + (y[i + 1] - y[i]) * (w - x[i]) / h,
             Interpolation::Akima => {
                 // Cubic Hermite on the segment with the Akima slopes at its ends.
                 let s = (w - x[i]) / h;
+                let one = R::from(1.0);
                 let (d0, d1) = (self.point_slope(i) * h, self.point_slope(i + 1) * h);
                 let (h00, h10, h01, h11) = (
-                    (1.0 + 2.0 * s) * (1.0 - s) * (1.0 - s),
-                    s * (1.0 - s) * (1.0 - s),
-                    s * s * (3.0 - 2.0 * s),
+                    (one + s * 2.0) * (one - s) * (one - s),
+                    s * (one - s) * (one - s),
+                    s * s * (R::from(3.0) - s * 2.0),
                     s * s * (s - 1.0),
                 );
                 h00 * y[i] + h10 * d0 + h01 * y[i + 1] + h11 * d1
@@ -114,14 +121,18 @@ impl<const N: usize> TorqueSpeedTable<N> {
     /// below the load (where the excess torque falls through zero, so a small slow-down raises
     /// the motor's torque above the load's). None if the load exceeds the largest torque (the
     /// motor stalls).
-    pub fn stable_speed_rad_per_s(&self, load_torque_n_m: impl Fn(f64) -> f64) -> Option<f64> {
-        let excess = |w: f64| self.torque_n_m(w) - load_torque_n_m(w);
-        let peak = (0..N).max_by(|&a, &b| self.torque_n_m[a].total_cmp(&self.torque_n_m[b])).unwrap_or(0);
+    ///
+    /// The speed is found on values (bisection); its derivatives, where the scalar carries
+    /// them (the load's, the table's), are those of the balance's implicit function
+    /// ([`with_derivatives`]).
+    pub fn stable_speed_rad_per_s(&self, load_torque_n_m: impl Fn(R) -> R) -> Option<R> {
+        let excess = |w: R| self.torque_n_m(w) - load_torque_n_m(w);
+        let peak = (0..N).max_by(|&a, &b| self.torque_n_m[a].value().total_cmp(&self.torque_n_m[b].value())).unwrap_or(0);
         let lo = self.speed_rad_per_s[peak];
         if excess(lo) < 0.0 {
             return None;
         }
-        let span = (self.speed_rad_per_s[N - 1] - lo).max(1.0);
+        let span = (self.speed_rad_per_s[N - 1] - lo).max(R::from(1.0));
         let mut hi = self.speed_rad_per_s[N - 1];
         let mut widenings = 0;
         while excess(hi) >= 0.0 {
@@ -131,7 +142,8 @@ impl<const N: usize> TorqueSpeedTable<N> {
                 return None;
             }
         }
-        Some(bisect(lo, hi, 80, |w| excess(w) >= 0.0))
+        let root = bisect(lo.value(), hi.value(), 80, |w| excess(R::from(w)) >= 0.0);
+        Some(with_derivatives(root, (hi - lo).value(), excess))
     }
 }
 

@@ -4,6 +4,7 @@
 //! angular speed, so each element here runs on its rotational twin in [`crate::mechanical`]
 //! (one law, written once); the rack and pinion and the lever convert between the two domains.
 
+use fmu_runtime::real::Real;
 use crate::mechanical::{CableDrum, CoulombFriction, Inertia, TorsionSpring};
 use fmu_runtime::elements::{Domain, Effect, Kind};
 
@@ -18,30 +19,32 @@ use fmu_runtime::elements::{Domain, Effect, Kind};
 /// assert!((rack.power_w(20.0, 0.4) - 24.0).abs() < 1e-12); // m a v = d/dt (m v^2 / 2)
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Mass {
-    pub mass_kg: f64,
+pub struct Mass<R = f64> {
+    pub mass_kg: R,
 }
 
 impl Mass {
     /// Its effect (Table 3.1): inertial storage in translation.
     pub const MASS: Effect = Effect { domains: &[Domain::Translational], kind: Kind::StorageI, what: "mass" };
+}
 
-    fn rotational_twin(&self) -> Inertia {
+impl<R: Real> Mass<R> {
+    fn rotational_twin(&self) -> Inertia<R> {
         Inertia { inertia_kg_m2: self.mass_kg }
     }
 
     /// dv/dt under a net force, m/s2.
-    pub fn acceleration_m_per_s2(&self, net_force_n: f64) -> f64 {
+    pub fn acceleration_m_per_s2(&self, net_force_n: R) -> R {
         self.rotational_twin().acceleration_rad_per_s2(net_force_n)
     }
 
     /// Power stored per second, m dv/dt v, W (positive while speeding up).
-    pub fn power_w(&self, acceleration_m_per_s2: f64, velocity_m_per_s: f64) -> f64 {
+    pub fn power_w(&self, acceleration_m_per_s2: R, velocity_m_per_s: R) -> R {
         self.rotational_twin().power_w(acceleration_m_per_s2, velocity_m_per_s)
     }
 
     /// Kinetic energy m v^2 / 2, J.
-    pub fn energy_j(&self, velocity_m_per_s: f64) -> f64 {
+    pub fn energy_j(&self, velocity_m_per_s: R) -> R {
         self.rotational_twin().energy_j(velocity_m_per_s)
     }
 }
@@ -59,9 +62,9 @@ impl Mass {
 /// assert!((rod.natural_frequency_hz(10.0, f64::INFINITY) - 10.066).abs() < 1e-3);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TranslationalSpring {
-    pub stiffness_n_per_m: f64,
-    pub damping_n_s_per_m: f64,
+pub struct TranslationalSpring<R = f64> {
+    pub stiffness_n_per_m: R,
+    pub damping_n_s_per_m: R,
 }
 
 impl TranslationalSpring {
@@ -69,34 +72,36 @@ impl TranslationalSpring {
     pub const STIFFNESS: Effect = Effect { domains: &[Domain::Translational], kind: Kind::StorageC, what: "stiffness" };
     /// ... and its internal damping (dissipation).
     pub const DAMPING: Effect = Effect { domains: &[Domain::Translational], kind: Kind::Dissipation, what: "internal damping" };
+}
 
-    fn rotational_twin(&self) -> TorsionSpring {
+impl<R: Real> TranslationalSpring<R> {
+    fn rotational_twin(&self) -> TorsionSpring<R> {
         TorsionSpring { stiffness_n_m_per_rad: self.stiffness_n_per_m, damping_n_m_s_per_rad: self.damping_n_s_per_m }
     }
 
     /// Transmitted force at an elongation and elongation rate, N (positive: tension).
-    pub fn force_n(&self, elongation_m: f64, elongation_rate_m_per_s: f64) -> f64 {
+    pub fn force_n(&self, elongation_m: R, elongation_rate_m_per_s: R) -> R {
         self.rotational_twin().torque_n_m(elongation_m, elongation_rate_m_per_s)
     }
 
     /// Power into the elastic part, k x dx/dt, W.
-    pub fn spring_power_w(&self, elongation_m: f64, elongation_rate_m_per_s: f64) -> f64 {
+    pub fn spring_power_w(&self, elongation_m: R, elongation_rate_m_per_s: R) -> R {
         self.rotational_twin().spring_power_w(elongation_m, elongation_rate_m_per_s)
     }
 
     /// Power dissipated by the internal damping, d (dx/dt)^2, W (never negative).
-    pub fn damper_power_w(&self, elongation_rate_m_per_s: f64) -> f64 {
+    pub fn damper_power_w(&self, elongation_rate_m_per_s: R) -> R {
         self.rotational_twin().damper_power_w(elongation_rate_m_per_s)
     }
 
     /// Elastic energy k x^2 / 2, J (its rate is [`spring_power_w`](Self::spring_power_w)).
-    pub fn energy_j(&self, elongation_m: f64) -> f64 {
-        0.5 * self.stiffness_n_per_m * elongation_m * elongation_m
+    pub fn energy_j(&self, elongation_m: R) -> R {
+        self.stiffness_n_per_m * 0.5 * elongation_m * elongation_m
     }
 
     /// Natural frequency of this spring between two masses, sqrt(k (1/m1 + 1/m2)) / 2 pi, Hz
     /// (`m2_kg` infinite: one end fixed).
-    pub fn natural_frequency_hz(&self, m1_kg: f64, m2_kg: f64) -> f64 {
+    pub fn natural_frequency_hz(&self, m1_kg: R, m2_kg: R) -> R {
         self.rotational_twin().natural_frequency_hz(m1_kg, m2_kg)
     }
 }
@@ -110,26 +115,28 @@ impl TranslationalSpring {
 /// assert_eq!(damper.power_w(-0.05), 5.0); // d v^2 = F v, never negative
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TranslationalDamper {
-    pub damping_n_s_per_m: f64,
+pub struct TranslationalDamper<R = f64> {
+    pub damping_n_s_per_m: R,
 }
 
 impl TranslationalDamper {
     /// Its effect (Table 3.1): a dissipation.
     pub const DAMPING: Effect = Effect { domains: &[Domain::Translational], kind: Kind::Dissipation, what: "viscous damping" };
+}
 
+impl<R: Real> TranslationalDamper<R> {
     /// The damper as a spring-damper with no spring: its laws are that one's.
-    fn spring_damper(&self) -> TranslationalSpring {
-        TranslationalSpring { stiffness_n_per_m: 0.0, damping_n_s_per_m: self.damping_n_s_per_m }
+    fn spring_damper(&self) -> TranslationalSpring<R> {
+        TranslationalSpring { stiffness_n_per_m: R::from(0.0), damping_n_s_per_m: self.damping_n_s_per_m }
     }
 
     /// Force at a relative velocity, N.
-    pub fn force_n(&self, velocity_m_per_s: f64) -> f64 {
-        self.spring_damper().force_n(0.0, velocity_m_per_s)
+    pub fn force_n(&self, velocity_m_per_s: R) -> R {
+        self.spring_damper().force_n(R::from(0.0), velocity_m_per_s)
     }
 
     /// Power dissipated, d v^2, W (never negative).
-    pub fn power_w(&self, velocity_m_per_s: f64) -> f64 {
+    pub fn power_w(&self, velocity_m_per_s: R) -> R {
         self.spring_damper().damper_power_w(velocity_m_per_s)
     }
 }
@@ -149,11 +156,11 @@ impl TranslationalDamper {
 /// assert_eq!(rack.next_mode(1, -1e-12, 100.0), (0, true)); // stopped, held: speed set to 0
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SlidingFriction {
+pub struct SlidingFriction<R = f64> {
     /// F_c, N: the force while slipping.
-    pub coulomb_n: f64,
+    pub coulomb_n: R,
     /// F_s >= F_c, N: the largest force it holds while stuck.
-    pub static_n: f64,
+    pub static_n: R,
 }
 
 impl SlidingFriction {
@@ -162,32 +169,34 @@ impl SlidingFriction {
 
     /// Below this velocity a body in the stuck mode stands still: 1e-9 m/s (a millimetre in 12
     /// days), the number [`CoulombFriction::STANDSTILL_RAD_PER_S`] that its mode logic uses.
-    pub const STANDSTILL_M_PER_S: f64 = CoulombFriction::STANDSTILL_RAD_PER_S;
+    pub const STANDSTILL_M_PER_S: f64 = CoulombFriction::<f64>::STANDSTILL_RAD_PER_S;
+}
 
-    fn rotational_twin(&self) -> CoulombFriction {
+impl<R: Real> SlidingFriction<R> {
+    fn rotational_twin(&self) -> CoulombFriction<R> {
         CoulombFriction { coulomb_n_m: self.coulomb_n, static_n_m: self.static_n }
     }
 
     /// The friction force on a body slipping in `direction` (+-1; 0 when stuck), N.
-    pub fn slip_force_n(&self, direction: i32) -> f64 {
+    pub fn slip_force_n(&self, direction: i32) -> R {
         self.rotational_twin().slip_torque_n_m(direction)
     }
 
     /// The event indicator (as [`CoulombFriction::indicator`]): slipping, the velocity in the
     /// direction of slip; stuck, the margin F_s - |F_required|, `required_n` the sum of every other
     /// force on the body.
-    pub fn indicator(&self, mode: i32, velocity_m_per_s: f64, required_n: f64) -> f64 {
+    pub fn indicator(&self, mode: i32, velocity_m_per_s: R, required_n: R) -> R {
         self.rotational_twin().indicator(mode, velocity_m_per_s, required_n)
     }
 
     /// The mode after an event and whether the velocity must be set to exactly 0 (as
     /// [`CoulombFriction::next_mode`]).
-    pub fn next_mode(&self, mode: i32, velocity_m_per_s: f64, required_n: f64) -> (i32, bool) {
+    pub fn next_mode(&self, mode: i32, velocity_m_per_s: R, required_n: R) -> (i32, bool) {
         self.rotational_twin().next_mode(mode, velocity_m_per_s, required_n)
     }
 
     /// Power dissipated while slipping, |F_c v|, W (zero while stuck).
-    pub fn power_w(&self, mode: i32, velocity_m_per_s: f64) -> f64 {
+    pub fn power_w(&self, mode: i32, velocity_m_per_s: R) -> R {
         self.rotational_twin().power_w(mode, velocity_m_per_s)
     }
 }
@@ -208,57 +217,59 @@ impl SlidingFriction {
 /// assert!((gear.referred_inertia_kg_m2(3.0) - 1.6875e-4).abs() < 1e-15); // m r^2
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RackAndPinion {
-    pub pinion_radius_m: f64,
+pub struct RackAndPinion<R = f64> {
+    pub pinion_radius_m: R,
 }
 
 impl RackAndPinion {
     /// Its effect (Table 3.1): a lossless transformer between rotation and translation.
     pub const TRANSFORMER: Effect =
         Effect { domains: &[Domain::Rotational, Domain::Translational], kind: Kind::Transformer, what: "rack and pinion (rotation to translation)" };
+}
 
+impl<R: Real> RackAndPinion<R> {
     /// The rack and pinion whose rack travels `travel_per_turn_m` per pinion turn: r = c / 2 pi.
-    pub fn from_travel_per_turn(travel_per_turn_m: f64) -> Self {
+    pub fn from_travel_per_turn(travel_per_turn_m: R) -> Self {
         RackAndPinion { pinion_radius_m: travel_per_turn_m / (2.0 * std::f64::consts::PI) }
     }
 
     /// Rack travel per pinion turn, 2 pi r, m.
-    pub fn travel_per_turn_m(&self) -> f64 {
-        2.0 * std::f64::consts::PI * self.pinion_radius_m
+    pub fn travel_per_turn_m(&self) -> R {
+        self.pinion_radius_m * (2.0 * std::f64::consts::PI)
     }
 
     /// The same transformer as a cable drum of the pinion's radius (v = r w, T = r F).
-    fn drum(&self) -> CableDrum {
+    fn drum(&self) -> CableDrum<R> {
         CableDrum { radius_m: self.pinion_radius_m }
     }
 
     /// Rack velocity for a pinion speed, r w, m/s (and rack travel r theta for a pinion angle).
-    pub fn rack_velocity_m_per_s(&self, pinion_speed_rad_per_s: f64) -> f64 {
+    pub fn rack_velocity_m_per_s(&self, pinion_speed_rad_per_s: R) -> R {
         self.drum().cable_speed_m_per_s(pinion_speed_rad_per_s)
     }
 
     /// Pinion speed for a rack velocity, v / r, rad/s (and pinion angle x / r for a rack travel).
-    pub fn pinion_speed_rad_per_s(&self, rack_velocity_m_per_s: f64) -> f64 {
+    pub fn pinion_speed_rad_per_s(&self, rack_velocity_m_per_s: R) -> R {
         rack_velocity_m_per_s / self.pinion_radius_m
     }
 
     /// Torque on the pinion's shaft from a force on the rack, r F, N m.
-    pub fn pinion_torque_n_m(&self, rack_force_n: f64) -> f64 {
+    pub fn pinion_torque_n_m(&self, rack_force_n: R) -> R {
         self.drum().torque_n_m(rack_force_n)
     }
 
     /// Force on the rack from a torque on the pinion's shaft, T / r, N.
-    pub fn rack_force_n(&self, pinion_torque_n_m: f64) -> f64 {
+    pub fn rack_force_n(&self, pinion_torque_n_m: R) -> R {
         pinion_torque_n_m / self.pinion_radius_m
     }
 
     /// A mass moving with the rack, seen as an inertia on the pinion's shaft, m r^2, kg m2.
-    pub fn referred_inertia_kg_m2(&self, rack_mass_kg: f64) -> f64 {
+    pub fn referred_inertia_kg_m2(&self, rack_mass_kg: R) -> R {
         self.drum().referred_inertia_kg_m2(rack_mass_kg)
     }
 
     /// An inertia turning with the pinion, seen as a mass on the rack, J / r^2, kg.
-    pub fn referred_mass_kg(&self, pinion_inertia_kg_m2: f64) -> f64 {
+    pub fn referred_mass_kg(&self, pinion_inertia_kg_m2: R) -> R {
         pinion_inertia_kg_m2 / (self.pinion_radius_m * self.pinion_radius_m)
     }
 }
@@ -278,42 +289,44 @@ impl RackAndPinion {
 /// assert!((horn.referred_mass_kg(5.0) - 500.0).abs() < 1e-9);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Lever {
-    pub arm_m: f64,
+pub struct Lever<R = f64> {
+    pub arm_m: R,
 }
 
 impl Lever {
     /// Its effect (Table 3.1): a lossless transformer between translation and rotation.
     pub const TRANSFORMER: Effect =
         Effect { domains: &[Domain::Translational, Domain::Rotational], kind: Kind::Transformer, what: "lever arm (translation to rotation)" };
+}
 
-    fn pinion(&self) -> RackAndPinion {
+impl<R: Real> Lever<R> {
+    fn pinion(&self) -> RackAndPinion<R> {
         RackAndPinion { pinion_radius_m: self.arm_m }
     }
 
     /// Rod velocity for a surface angular speed, a w, m/s.
-    pub fn rod_velocity_m_per_s(&self, angular_speed_rad_per_s: f64) -> f64 {
+    pub fn rod_velocity_m_per_s(&self, angular_speed_rad_per_s: R) -> R {
         self.pinion().rack_velocity_m_per_s(angular_speed_rad_per_s)
     }
 
     /// Surface angular speed for a rod velocity, v / a, rad/s (and deflection x / a for a rod
     /// travel, small angles).
-    pub fn angular_speed_rad_per_s(&self, rod_velocity_m_per_s: f64) -> f64 {
+    pub fn angular_speed_rad_per_s(&self, rod_velocity_m_per_s: R) -> R {
         self.pinion().pinion_speed_rad_per_s(rod_velocity_m_per_s)
     }
 
     /// Hinge moment from the rod's force, a F, N m.
-    pub fn hinge_moment_n_m(&self, rod_force_n: f64) -> f64 {
+    pub fn hinge_moment_n_m(&self, rod_force_n: R) -> R {
         self.pinion().pinion_torque_n_m(rod_force_n)
     }
 
     /// Rod force that balances a hinge moment, T / a, N.
-    pub fn rod_force_n(&self, hinge_moment_n_m: f64) -> f64 {
+    pub fn rod_force_n(&self, hinge_moment_n_m: R) -> R {
         self.pinion().rack_force_n(hinge_moment_n_m)
     }
 
     /// The surface's inertia seen as a mass on the rod, J / a^2, kg.
-    pub fn referred_mass_kg(&self, surface_inertia_kg_m2: f64) -> f64 {
+    pub fn referred_mass_kg(&self, surface_inertia_kg_m2: R) -> R {
         self.pinion().referred_mass_kg(surface_inertia_kg_m2)
     }
 }
