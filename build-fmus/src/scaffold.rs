@@ -81,11 +81,11 @@ impl Model for {name} {{
         }}
     }}
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {{
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {{
         der[self.x] = (k[self.u] - k[self.x]) / k[self.tau];
     }}
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {{
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {{
         out[self.y] = k[self.x];
     }}
 }}

@@ -27,6 +27,8 @@
 //! leaves it out: a thermal network's balance is its heat sources and sinks against its heat
 //! capacities.
 
+use crate::real::Real;
+
 /// The physical domain of an effect (Table 3.1, second column).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Domain {
@@ -155,8 +157,8 @@ pub struct BalanceOutputs {
 
 /// The energy balance at one instant from the reported powers (one per element, NaN where an
 /// element with no power has none): (residual in W, residual over the largest power).
-pub fn balance(elements: &[ElementInfo], powers: &[f64]) -> (f64, f64) {
-    let (mut residual, mut largest) = (0.0f64, 0.0f64);
+pub fn balance<R: Real>(elements: &[ElementInfo], powers: &[R]) -> (R, R) {
+    let (mut residual, mut largest) = (R::from(0.0), R::from(0.0));
     for (e, &p) in elements.iter().zip(powers) {
         if !e.effect.in_balance() || e.neglected.is_some() {
             continue;
@@ -164,14 +166,14 @@ pub fn balance(elements: &[ElementInfo], powers: &[f64]) -> (f64, f64) {
         largest = largest.max(p.abs());
         residual += if e.effect.kind == Kind::Source { p } else { -p };
     }
-    let relative = if largest > 0.0 { residual / largest } else { 0.0 };
+    let relative = if largest > 0.0 { residual / largest } else { R::from(0.0) };
     (residual, relative)
 }
 
 /// Fills in `activity_<name>`, `share_<name>` and the balance outputs from the activity states
 /// and the reported powers.
-pub(crate) fn write_outputs(elements: &[ElementInfo], balance_outputs: Option<BalanceOutputs>, states: &[f64], powers: &[f64], calculated: &mut [f64]) {
-    let total = |storage: bool| -> f64 {
+pub(crate) fn write_outputs<R: Real>(elements: &[ElementInfo], balance_outputs: Option<BalanceOutputs>, states: &[R], powers: &[R], calculated: &mut [R]) {
+    let total = |storage: bool| -> R {
         elements
             .iter()
             .filter(|e| e.share_output.is_some() && e.effect.kind.is_storage() == storage)
@@ -186,7 +188,7 @@ pub(crate) fn write_outputs(elements: &[ElementInfo], balance_outputs: Option<Ba
         }
         if let Some(y) = e.share_output {
             let sum = if e.effect.kind.is_storage() { storage_total } else { dissipation_total };
-            calculated[y] = if sum > 0.0 { 100.0 * states[s] / sum } else { 0.0 };
+            calculated[y] = if sum > 0.0 { states[s] * 100.0 / sum } else { R::from(0.0) };
         }
     }
     if let Some(b) = balance_outputs {
@@ -194,23 +196,6 @@ pub(crate) fn write_outputs(elements: &[ElementInfo], balance_outputs: Option<Ba
         calculated[b.residual] = residual;
         calculated[b.relative] = relative;
     }
-}
-
-/// The exact directional derivative of a runtime-written output (calculated-store index `y`)
-/// along the state direction `d_states`: an activity output is its state; a share is the ratio
-/// 100 A_i / sum A, so d share = 100 (dA_i sum A - A_i d sum A) / (sum A)^2. None for any other
-/// output, and for a share whose class has no activity yet (its value jumps there). Finite
-/// differences of a ratio of activities that are still far below their nominal scale (just after
-/// the start) straddle its curvature; the runtime writes these entries itself.
-pub(crate) fn output_derivative(elements: &[ElementInfo], states: &[f64], d_states: &[f64], y: usize) -> Option<f64> {
-    let e = elements.iter().find(|e| e.activity_output == Some(y) || e.share_output == Some(y))?;
-    let s = e.activity_state?;
-    if e.activity_output == Some(y) {
-        return Some(d_states[s]);
-    }
-    let class = elements.iter().filter(|o| o.share_output.is_some() && o.effect.kind.is_storage() == e.effect.kind.is_storage());
-    let (sum, d_sum) = class.filter_map(|o| o.activity_state).fold((0.0, 0.0), |(a, b), o| (a + states[o], b + d_states[o]));
-    (sum > 0.0).then(|| 100.0 * (d_states[s] * sum - states[s] * d_sum) / (sum * sum))
 }
 
 /// Table 3.1 for the documentation: one row per component, its domains and its effects, in
@@ -310,20 +295,20 @@ pub(crate) mod tests {
                 damper: d.element("damper", "Damper", DAMPER).describe("the 0.8 N s/m damper"),
             }
         }
-        fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+        fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
             let (x, v, f) = (k[self.x], k[self.v], 3.0 * (2.0 * k.time()).sin());
-            let damping = if BROKEN { 0.0 } else { 0.8 * v };
-            let a = (f - 50.0 * x - damping) / 2.0;
+            let damping = if BROKEN { R::from(0.0) } else { v * 0.8 };
+            let a = (R::from(f) - x * 50.0 - damping) / 2.0;
             der[self.x] = v;
             der[self.v] = a;
-            der.power(self.force, f * v);
-            der.power(self.mass, 2.0 * a * v);
-            der.power(self.spring, 50.0 * x * v);
+            der.power(self.force, v * f);
+            der.power(self.mass, a * 2.0 * v);
+            der.power(self.spring, x * 50.0 * v);
             if !SILENT {
-                der.power(self.damper, 0.8 * v * v);
+                der.power(self.damper, v * 0.8 * v);
             }
         }
-        fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
+        fn outputs<R: Real>(&self, _: &Knowns<R>, _: &mut Outputs<R>) {}
     }
 
     fn run<M: Model>(steps: usize) -> (crate::variables::VariableTable, Vec<f64>) {

@@ -30,8 +30,8 @@
 //!             y: d.output("y", "1").describe("amount, observed"),
 //!         }
 //!     }
-//!     fn derivatives(&self, k: &Knowns, der: &mut Derivatives) { der[self.x] = -k[self.rate] * k[self.x]; }
-//!     fn outputs(&self, k: &Knowns, out: &mut Outputs) { out[self.y] = k[self.x]; }
+//!     fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) { der[self.x] = -k[self.rate] * k[self.x]; }
+//!     fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) { out[self.y] = k[self.x]; }
 //! }
 //!
 //! // In a cdylib crate this one line makes the FMU: fmu_runtime::export_fmu!(Decay);
@@ -56,6 +56,7 @@ pub mod log;
 pub mod model;
 pub mod phase;
 pub mod real;
+pub mod trace;
 pub mod standards;
 pub mod state;
 pub mod status;
@@ -75,6 +76,7 @@ pub use model::{DefaultExperiment, Model, ModelInfo, Solver};
 pub mod prelude {
     pub use crate::elements::{Domain, Effect, Element, Kind};
     pub use crate::model::{DefaultExperiment, Model, ModelInfo, Solver};
+    pub use crate::real::Real;
     pub use crate::values::{Derivatives, EventIndicators, InitialStates, Knowns, ModeUpdate, Outputs};
     pub use crate::variables::{BooleanParameter, Declarations, Indicator, Input, IntegerParameter, Local, Mode, Output, Parameter, State};
 }

@@ -1,6 +1,7 @@
 //! The `Model` trait: what a model author writes. Plain physics — declarations, derivatives,
 //! outputs — with no FMI, no XML and no unsafe code. The runtime derives the rest.
 
+use crate::real::Real;
 use crate::values::{Derivatives, EventIndicators, InitialStates, Knowns, ModeUpdate, Outputs};
 use crate::variables::{Declarations, VariableTable};
 
@@ -89,7 +90,7 @@ pub trait Model: Sized + Send + Sync + 'static {
     /// the parameters and the inputs at the start time (`k` holds them; the calculated states
     /// themselves read NaN there). Called during initialization; every calculated state must be
     /// given a finite value, or initialization fails naming it. Other states keep their start.
-    fn initial_states(&self, _k: &Knowns, _x0: &mut InitialStates) {}
+    fn initial_states<R: Real>(&self, _k: &Knowns<R>, _x0: &mut InitialStates<R>) {}
 
     /// The event indicators z at the knowns `k` (which include the current discrete modes,
     /// `k[mode]`), one per `Declarations::event_indicator`. An event happens where an indicator
@@ -107,44 +108,50 @@ pub trait Model: Sized + Send + Sync + 'static {
     /// communication point.
     fn update_modes(&self, _k: &Knowns, _next: &mut ModeUpdate) {}
 
-    /// The state derivatives dx/dt at the knowns `k`.
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives);
+    /// The state derivatives dx/dt at the knowns `k`. Written over any scalar `R` ([`Real`]):
+    /// the runtime evaluates them with `f64` for values and with [`crate::real::Dual`] for exact
+    /// directional derivatives (docs/DESIGN.md, "Exact derivatives").
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>);
 
-    /// The outputs, locals and calculated parameters at the knowns `k`.
-    fn outputs(&self, k: &Knowns, out: &mut Outputs);
+    /// The outputs, locals and calculated parameters at the knowns `k` (over any scalar, as
+    /// `derivatives`).
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>);
 }
 
 /// Evaluates a model's equations at one point: the derivatives and the calculated values
 /// (outputs, locals, calculated parameters, the runtime's activity, share and balance outputs),
-/// written into `derivatives` and `calculated`.
+/// written into `derivatives` and `calculated`. Over any scalar: `f64` for values, [`Dual`]
+/// for exact directional derivatives.
+///
+/// [`Dual`]: crate::real::Dual
 #[allow(clippy::too_many_arguments)]
-pub fn evaluate<M: Model>(
+pub fn evaluate<M: Model, R: Real>(
     model: &M,
     table: &VariableTable,
     time: f64,
-    known: &[f64],
-    states: &[f64],
+    known: &[R],
+    states: &[R],
     integers: &[i32],
     booleans: &[bool],
-    derivatives: &mut [f64],
-    calculated: &mut [f64],
+    derivatives: &mut [R],
+    calculated: &mut [R],
 ) {
     evaluate_derivatives(model, time, known, states, integers, booleans, derivatives);
     evaluate_outputs(model, table, time, known, states, integers, booleans, calculated, &mut Vec::new());
 }
 
 /// The derivatives alone (see [`evaluate`]).
-pub fn evaluate_derivatives<M: Model>(model: &M, time: f64, known: &[f64], states: &[f64], integers: &[i32], booleans: &[bool], derivatives: &mut [f64]) {
-    derivatives.fill(0.0);
+pub fn evaluate_derivatives<M: Model, R: Real>(model: &M, time: f64, known: &[R], states: &[R], integers: &[i32], booleans: &[bool], derivatives: &mut [R]) {
+    derivatives.fill(R::from(0.0));
     model.derivatives(&Knowns::new(time, known, states, integers, booleans), &mut Derivatives::new(derivatives));
 }
 
 /// The derivatives with each declared element's reported power (`der.power`) recorded in
 /// `powers` (one per element of `table.elements`; NaN where the model reported none).
 #[allow(clippy::too_many_arguments)]
-pub fn evaluate_powers<M: Model>(model: &M, time: f64, known: &[f64], states: &[f64], integers: &[i32], booleans: &[bool], derivatives: &mut [f64], powers: &mut [f64]) {
-    derivatives.fill(0.0);
-    powers.fill(f64::NAN);
+pub fn evaluate_powers<M: Model, R: Real>(model: &M, time: f64, known: &[R], states: &[R], integers: &[i32], booleans: &[bool], derivatives: &mut [R], powers: &mut [R]) {
+    derivatives.fill(R::from(0.0));
+    powers.fill(R::from(f64::NAN));
     model.derivatives(&Knowns::new(time, known, states, integers, booleans), &mut Derivatives::with_powers(derivatives, powers));
 }
 
@@ -152,22 +159,22 @@ pub fn evaluate_powers<M: Model>(model: &M, time: f64, known: &[f64], states: &[
 /// activity, share and energy-balance outputs (see [`crate::elements`]); `work` is scratch
 /// space for the balance's evaluation of the derivatives (it grows once, then is reused).
 #[allow(clippy::too_many_arguments)]
-pub fn evaluate_outputs<M: Model>(
+pub fn evaluate_outputs<M: Model, R: Real>(
     model: &M,
     table: &VariableTable,
     time: f64,
-    known: &[f64],
-    states: &[f64],
+    known: &[R],
+    states: &[R],
     integers: &[i32],
     booleans: &[bool],
-    calculated: &mut [f64],
-    work: &mut Vec<f64>,
+    calculated: &mut [R],
+    work: &mut Vec<R>,
 ) {
     model.outputs(&Knowns::new(time, known, states, integers, booleans), &mut Outputs::new(calculated));
     if table.elements.is_empty() {
         return;
     }
-    work.resize(table.n_states + table.elements.len(), 0.0);
+    work.resize(table.n_states + table.elements.len(), R::from(0.0));
     let (rates, powers) = work.split_at_mut(table.n_states);
     evaluate_powers(model, time, known, states, integers, booleans, rates, powers);
     crate::elements::write_outputs(&table.elements, table.balance, states, powers, calculated);
@@ -175,21 +182,21 @@ pub fn evaluate_outputs<M: Model>(
 
 /// Fills in the calculated states of `states` (which holds the start values of the others)
 /// through `Model::initial_states`; the message names a state left without a finite value.
-pub fn initialize_states<M: Model>(
+pub fn initialize_states<M: Model, R: Real>(
     model: &M,
     table: &crate::variables::VariableTable,
     time: f64,
-    known: &[f64],
+    known: &[R],
     integers: &[i32],
     booleans: &[bool],
-    states: &mut [f64],
+    states: &mut [R],
 ) -> Result<(), String> {
     let calculated: Vec<usize> = table.calculated_states().collect();
     if calculated.is_empty() {
         return Ok(());
     }
     for &s in &calculated {
-        states[s] = f64::NAN;
+        states[s] = R::from(f64::NAN);
     }
     let starts = states.to_vec();
     let k = Knowns::new(time, known, &starts, integers, booleans);
@@ -197,7 +204,7 @@ pub fn initialize_states<M: Model>(
     for &s in &calculated {
         if !states[s].is_finite() {
             let name = &table.variables[table.state_value_reference[s] as usize].name;
-            return Err(format!("the model computed no finite initial value for the state '{name}' (got {})", states[s]));
+            return Err(format!("the model computed no finite initial value for the state '{name}' (got {})", states[s].value()));
         }
     }
     Ok(())

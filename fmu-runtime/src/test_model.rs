@@ -1,5 +1,6 @@
 //! A small model for the runtime's own unit tests: dx/dt = -a x + u, y = 2 x, w = a u.
 use crate::model::{DefaultExperiment, Model, ModelInfo, Solver};
+use crate::real::Real;
 use crate::values::{Derivatives, Knowns, Outputs};
 use crate::variables::{Declarations, Input, Output, Parameter, State};
 
@@ -31,11 +32,11 @@ impl Model for Decay {
             w: d.output("w", "1").describe("the input times a"),
         }
     }
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         der[self.x] = -k[self.a] * k[self.x] + k[self.u];
     }
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
-        out[self.y] = 2.0 * k[self.x];
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
+        out[self.y] = k[self.x] * 2.0;
         out[self.w] = k[self.a] * k[self.u];
     }
 }
@@ -63,10 +64,10 @@ impl Model for Switch {
     fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
         (k[self.t_on] > after).then_some(k[self.t_on])
     }
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
-        der[self.x] = if k.time() >= k[self.t_on] { 1.0 } else { 0.0 };
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
+        der[self.x] = R::from(if k.time() >= k[self.t_on].value() { 1.0 } else { 0.0 });
     }
-    fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
+    fn outputs<R: Real>(&self, _: &Knowns<R>, _: &mut Outputs<R>) {}
 }
 
 /// A body relaxing to `u + p/g`: C dT/dt = p - g (T - u). Its temperature T starts either at the
@@ -100,13 +101,13 @@ impl Model for Relax {
             y: d.output("y", "K").describe("the temperature"),
         }
     }
-    fn initial_states(&self, k: &Knowns, x0: &mut crate::values::InitialStates) {
+    fn initial_states<R: Real>(&self, k: &Knowns<R>, x0: &mut crate::values::InitialStates<R>) {
         x0[self.t] = if k[self.steady] { k[self.u] + k[self.p] / k[self.g] } else { k[self.u] };
     }
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         der[self.t] = k[self.p] - k[self.g] * (k[self.t] - k[self.u]);
     }
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         out[self.y] = k[self.t];
     }
 }
@@ -165,12 +166,12 @@ impl Model for Block {
             _ => {}
         }
     }
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let mode = k[self.mode] as f64;
         der[self.x] = k[self.v];
-        der[self.v] = if mode == 0.0 { 0.0 } else { (k[self.force] - k[self.f_coulomb] * mode) / k[self.mass] };
+        der[self.v] = if mode == 0.0 { R::from(0.0) } else { (k[self.force] - k[self.f_coulomb] * mode) / k[self.mass] };
     }
-    fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
+    fn outputs<R: Real>(&self, _: &Knowns<R>, _: &mut Outputs<R>) {}
 }
 
 /// `Block` integrated by the implicit solver: the same events, located on esdirk34's dense output.
@@ -189,10 +190,10 @@ impl Model for ImplicitBlock {
     fn update_modes(&self, k: &Knowns, next: &mut crate::values::ModeUpdate) {
         self.0.update_modes(k, next)
     }
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         self.0.derivatives(k, der)
     }
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         self.0.outputs(k, out)
     }
 }
@@ -218,10 +219,10 @@ impl Model for Careless {
             forgotten: d.output("forgotten", "1").describe("never computed"),
         }
     }
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         der[self.x] = -k[self.x];
     }
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         if k[self.level] == 1 {
             out[self.y] = k[self.x];
         }
@@ -256,12 +257,12 @@ impl Model for Frozen {
             y: d.output("y", "1").describe("the state"),
         }
     }
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         der[self.x] = -k[self.x];
     }
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
-        out[self.stuck] = 2.0 * k[self.gain];
-        out[self.clock] = k.time();
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
+        out[self.stuck] = k[self.gain] * 2.0;
+        out[self.clock] = R::from(k.time());
         out[self.echo] = k[self.set_point];
         out[self.y] = k[self.x];
     }
@@ -283,10 +284,10 @@ impl Model for Furlong {
         d.parameter("count", 1.0, "").describe("no unit");
         Furlong { x: d.state("x", 1.0, "m").describe("state"), y: d.output("y", "m").describe("the state") }
     }
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         der[self.x] = -k[self.x];
     }
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         out[self.y] = k[self.x];
     }
 }
@@ -310,11 +311,11 @@ impl Model for Panicky {
     fn declare(d: &mut Declarations) -> Self {
         Panicky { u: d.input("u", 1.0, "1").describe("input"), x: d.state("x", 0.0, "1").describe("state") }
     }
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         assert!(k[self.u] >= 0.0, "negative input");
         der[self.x] = k[self.u];
     }
-    fn outputs(&self, _: &Knowns, _: &mut Outputs) {}
+    fn outputs<R: Real>(&self, _: &Knowns<R>, _: &mut Outputs<R>) {}
 }
 
 
@@ -343,10 +344,10 @@ impl Model for Chooser {
             y: d.output("y", "1").describe("gain times the state"),
         }
     }
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         der[self.x] = -k[self.x];
     }
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
-        out[self.y] = k[self.gain] as f64 * k[self.x];
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
+        out[self.y] = k[self.x] * (k[self.gain] as f64);
     }
 }

@@ -8,6 +8,7 @@
 use std::ops::{Index, IndexMut};
 
 use crate::elements::Element;
+use crate::real::Real;
 use crate::variables::{BooleanParameter, Indicator, Input, IntegerParameter, Local, Mode, Output, Parameter, State};
 
 /// The stores of one instance, each indexed by the slot the declaration gave.
@@ -28,18 +29,20 @@ pub struct Values {
     pub booleans: Vec<bool>,
 }
 
-/// What the equations may read at one instant: time, parameters, inputs, states.
-pub struct Knowns<'a> {
+/// What the equations may read at one instant: time, parameters, inputs, states. `R` is the
+/// scalar of the reals ([`Real`]): `f64`, or a number that carries derivatives; the equations
+/// written over any `R` serve both (docs/DESIGN.md, "Exact derivatives").
+pub struct Knowns<'a, R = f64> {
     pub(crate) time: f64,
-    pub(crate) known: &'a [f64],
-    pub(crate) states: &'a [f64],
+    pub(crate) known: &'a [R],
+    pub(crate) states: &'a [R],
     pub(crate) integers: &'a [i32],
     pub(crate) booleans: &'a [bool],
 }
 
-impl<'a> Knowns<'a> {
+impl<'a, R: Real> Knowns<'a, R> {
     /// Builds a view; `known` is the known-reals store, `states` the current state vector.
-    pub fn new(time: f64, known: &'a [f64], states: &'a [f64], integers: &'a [i32], booleans: &'a [bool]) -> Self {
+    pub fn new(time: f64, known: &'a [R], states: &'a [R], integers: &'a [i32], booleans: &'a [bool]) -> Self {
         Knowns { time, known, states, integers, booleans }
     }
 
@@ -49,35 +52,35 @@ impl<'a> Knowns<'a> {
     }
 }
 
-impl Index<Parameter> for Knowns<'_> {
-    type Output = f64;
-    fn index(&self, p: Parameter) -> &f64 {
+impl<R> Index<Parameter> for Knowns<'_, R> {
+    type Output = R;
+    fn index(&self, p: Parameter) -> &R {
         &self.known[p.0]
     }
 }
 
-impl Index<Input> for Knowns<'_> {
-    type Output = f64;
-    fn index(&self, u: Input) -> &f64 {
+impl<R> Index<Input> for Knowns<'_, R> {
+    type Output = R;
+    fn index(&self, u: Input) -> &R {
         &self.known[u.0]
     }
 }
 
-impl Index<State> for Knowns<'_> {
-    type Output = f64;
-    fn index(&self, x: State) -> &f64 {
+impl<R> Index<State> for Knowns<'_, R> {
+    type Output = R;
+    fn index(&self, x: State) -> &R {
         &self.states[x.state]
     }
 }
 
-impl Index<IntegerParameter> for Knowns<'_> {
+impl<R> Index<IntegerParameter> for Knowns<'_, R> {
     type Output = i32;
     fn index(&self, n: IntegerParameter) -> &i32 {
         &self.integers[n.0]
     }
 }
 
-impl Index<BooleanParameter> for Knowns<'_> {
+impl<R> Index<BooleanParameter> for Knowns<'_, R> {
     type Output = bool;
     fn index(&self, b: BooleanParameter) -> &bool {
         &self.booleans[b.0]
@@ -85,65 +88,65 @@ impl Index<BooleanParameter> for Knowns<'_> {
 }
 
 /// Where `Model::outputs` writes outputs, locals and calculated parameters.
-pub struct Outputs<'a> {
-    pub(crate) calculated: &'a mut [f64],
+pub struct Outputs<'a, R = f64> {
+    pub(crate) calculated: &'a mut [R],
 }
 
-impl<'a> Outputs<'a> {
-    pub fn new(calculated: &'a mut [f64]) -> Self {
+impl<'a, R> Outputs<'a, R> {
+    pub fn new(calculated: &'a mut [R]) -> Self {
         Outputs { calculated }
     }
 }
 
-impl Index<Output> for Outputs<'_> {
-    type Output = f64;
-    fn index(&self, y: Output) -> &f64 {
+impl<R> Index<Output> for Outputs<'_, R> {
+    type Output = R;
+    fn index(&self, y: Output) -> &R {
         &self.calculated[y.0]
     }
 }
 
-impl IndexMut<Output> for Outputs<'_> {
-    fn index_mut(&mut self, y: Output) -> &mut f64 {
+impl<R> IndexMut<Output> for Outputs<'_, R> {
+    fn index_mut(&mut self, y: Output) -> &mut R {
         &mut self.calculated[y.0]
     }
 }
 
-impl Index<Local> for Outputs<'_> {
-    type Output = f64;
-    fn index(&self, y: Local) -> &f64 {
+impl<R> Index<Local> for Outputs<'_, R> {
+    type Output = R;
+    fn index(&self, y: Local) -> &R {
         &self.calculated[y.0]
     }
 }
 
-impl IndexMut<Local> for Outputs<'_> {
-    fn index_mut(&mut self, y: Local) -> &mut f64 {
+impl<R> IndexMut<Local> for Outputs<'_, R> {
+    fn index_mut(&mut self, y: Local) -> &mut R {
         &mut self.calculated[y.0]
     }
 }
 
 /// Where `Model::derivatives` writes dx/dt, one entry per state, and each declared element's
 /// power (`der.power(element, p)`, see [`crate::elements`]).
-pub struct Derivatives<'a> {
-    pub(crate) rates: &'a mut [f64],
-    pub(crate) powers: Option<&'a mut [f64]>,
+pub struct Derivatives<'a, R = f64> {
+    pub(crate) rates: &'a mut [R],
+    pub(crate) powers: Option<&'a mut [R]>,
     /// Whether an activity state's rate is the element's signed power p (for a solver that
     /// integrates |p| itself, as a quadrature: [`crate::rk::Tsit::with_quadratures`]) rather
     /// than |p|, the rate a Model Exchange master integrates.
     pub(crate) signed_activity: bool,
 }
 
-impl<'a> Derivatives<'a> {
-    pub fn new(rates: &'a mut [f64]) -> Self {
+impl<'a, R: Real> Derivatives<'a, R> {
+    pub fn new(rates: &'a mut [R]) -> Self {
         Derivatives { rates, powers: None, signed_activity: false }
     }
 
     /// Also records each element's power in `powers`, by element.
-    pub fn with_powers(rates: &'a mut [f64], powers: &'a mut [f64]) -> Self {
+    pub fn with_powers(rates: &'a mut [R], powers: &'a mut [R]) -> Self {
         Derivatives { rates, powers: Some(powers), signed_activity: false }
     }
 
     /// Writes each activity state's rate as the signed power p, not |p|.
-    pub(crate) fn with_signed_activities(rates: &'a mut [f64]) -> Self {
+    pub(crate) fn with_signed_activities(rates: &'a mut [R]) -> Self {
         Derivatives { rates, powers: None, signed_activity: true }
     }
 
@@ -152,7 +155,7 @@ impl<'a> Derivatives<'a> {
     /// 3.3). The runtime integrates its absolute value into the element's activity and sums
     /// the powers into the energy balance. Report every element at every point, 0 where the
     /// configuration leaves it out.
-    pub fn power(&mut self, element: Element, power_w: f64) {
+    pub fn power(&mut self, element: Element, power_w: R) {
         if let Some(s) = element.activity {
             self.rates[s] = if self.signed_activity { power_w } else { power_w.abs() };
         }
@@ -162,44 +165,44 @@ impl<'a> Derivatives<'a> {
     }
 }
 
-impl Index<State> for Derivatives<'_> {
-    type Output = f64;
-    fn index(&self, x: State) -> &f64 {
+impl<R> Index<State> for Derivatives<'_, R> {
+    type Output = R;
+    fn index(&self, x: State) -> &R {
         &self.rates[x.state]
     }
 }
 
-impl IndexMut<State> for Derivatives<'_> {
-    fn index_mut(&mut self, x: State) -> &mut f64 {
+impl<R> IndexMut<State> for Derivatives<'_, R> {
+    fn index_mut(&mut self, x: State) -> &mut R {
         &mut self.rates[x.state]
     }
 }
 
 /// Where `Model::initial_states` writes the initial values of its calculated states.
-pub struct InitialStates<'a> {
-    pub(crate) states: &'a mut [f64],
+pub struct InitialStates<'a, R = f64> {
+    pub(crate) states: &'a mut [R],
 }
 
-impl<'a> InitialStates<'a> {
-    pub fn new(states: &'a mut [f64]) -> Self {
+impl<'a, R> InitialStates<'a, R> {
+    pub fn new(states: &'a mut [R]) -> Self {
         InitialStates { states }
     }
 }
 
-impl IndexMut<State> for InitialStates<'_> {
-    fn index_mut(&mut self, x: State) -> &mut f64 {
+impl<R> IndexMut<State> for InitialStates<'_, R> {
+    fn index_mut(&mut self, x: State) -> &mut R {
         &mut self.states[x.state]
     }
 }
 
-impl Index<State> for InitialStates<'_> {
-    type Output = f64;
-    fn index(&self, x: State) -> &f64 {
+impl<R> Index<State> for InitialStates<'_, R> {
+    type Output = R;
+    fn index(&self, x: State) -> &R {
         &self.states[x.state]
     }
 }
 
-impl Index<Mode> for Knowns<'_> {
+impl<R> Index<Mode> for Knowns<'_, R> {
     type Output = i32;
     fn index(&self, m: Mode) -> &i32 {
         &self.integers[m.0]

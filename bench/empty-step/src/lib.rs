@@ -30,9 +30,9 @@ impl Model for EmptyStep {
         }
     }
 
-    fn derivatives(&self, _k: &Knowns, _der: &mut Derivatives) {}
+    fn derivatives<R: Real>(&self, _k: &Knowns<R>, _der: &mut Derivatives<R>) {}
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         out[self.y] = k[self.value];
     }
 }

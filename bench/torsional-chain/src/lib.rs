@@ -40,11 +40,11 @@ pub struct TorsionalChain {
 }
 
 impl TorsionalChain {
-    fn drive_torque_n_m(&self, k: &Knowns) -> f64 {
-        if k.time() >= k[self.step_time] {
+    fn drive_torque_n_m<R: Real>(&self, k: &Knowns<R>) -> R {
+        if k.time() >= k[self.step_time].value() {
             k[self.drive_torque]
         } else {
-            0.0
+            R::from(0.0)
         }
     }
 }
@@ -87,7 +87,7 @@ impl Model for TorsionalChain {
         (k[self.step_time] > after).then(|| k[self.step_time])
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let body = Inertia { inertia_kg_m2: k[self.inertia] };
         let shaft = TorsionSpring { stiffness_n_m_per_rad: k[self.stiffness], damping_n_m_s_per_rad: k[self.damping] };
         let n = self.speeds.len();
@@ -107,7 +107,7 @@ impl Model for TorsionalChain {
         }
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         out[self.w_first] = k[self.speeds[0]];
         out[self.w_last] = k[self.speeds[self.speeds.len() - 1]];
     }

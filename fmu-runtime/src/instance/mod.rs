@@ -38,11 +38,6 @@ pub const MAX_MODE_ITERATIONS: usize = 50;
 /// State events at one instant (within rounding) before a step is refused as chattering.
 pub const MAX_EVENTS_AT_ONE_INSTANT: usize = 100;
 
-/// The rounding error of one evaluation of a model's unknown, in ulps of its value, that a
-/// directional derivative's central difference allows for (a few dozen operations each
-/// rounding by half an ulp, some of them cancelling).
-const ROUNDING_ULPS: f64 = 16.0;
-
 /// A value a master can get or set, typed as FMI types it.
 pub trait FmiValue: Copy {
     const TYPE: BaseType;

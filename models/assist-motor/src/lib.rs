@@ -74,14 +74,14 @@ impl Model for AssistMotor {
         self.assist.event_indicators(k, &self.worm, k[self.measured_torque], k[self.column_speed], z);
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let (torque, w_column) = (k[self.measured_torque], k[self.column_speed]);
         self.assist.derivatives(k, &self.worm, torque, w_column, der);
         let motor_torque = self.assist.motor(k).torque_n_m(self.assist.current(k));
         der.power(self.port, -motor_torque * self.worm.ratio(k) * w_column);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let op = self.assist.operate(k, &self.worm, k[self.measured_torque], k[self.column_speed]);
         out[self.motor_torque] = op.motor_torque;
         out[self.motor_current] = self.assist.current(k);

@@ -439,7 +439,7 @@ impl Model for BoosterNozzle {
         (k[self.profile] != 0 && t0 > after).then_some(t0)
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let p = self.parts(k);
         for axis in [&self.pitch, &self.yaw] {
             let op = self.operate(axis, &p, k);
@@ -462,7 +462,7 @@ impl Model for BoosterNozzle {
         }
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let p = self.parts(k);
         for axis in [&self.pitch, &self.yaw] {
             let op = self.operate(axis, &p, k);

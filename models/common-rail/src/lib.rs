@@ -514,7 +514,7 @@ impl Model for CommonRailInjection {
         Ok(())
     }
 
-    fn initial_states(&self, k: &Knowns, x0: &mut InitialStates) {
+    fn initial_states<R: Real>(&self, k: &Knowns<R>, x0: &mut InitialStates<R>) {
         // The valve starts where its spring balances the rail pressure (seated below the opening pressure).
         let p = self.parts(k);
         let preload = k[self.f_preload];
@@ -588,7 +588,7 @@ impl Model for CommonRailInjection {
         }
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let op = self.operate(k);
         der[self.crank] = k[self.speed_in];
         der[self.since_start] = 1.0;
@@ -613,7 +613,7 @@ impl Model for CommonRailInjection {
         der.power(p.cylinders, op.p_cylinders);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let op = self.operate(k);
         let p = self.parts(k);
         out[self.y_pressure] = k[self.pressure];

@@ -71,7 +71,7 @@ impl Model for DriveShaft {
         }
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let (twist, rate) = (k[self.angle_a] - k[self.angle_b], k[self.speed_a] - k[self.speed_b]);
         let spring = self.shaft.spring(k);
         let torque = spring.torque_n_m(twist, rate);
@@ -81,7 +81,7 @@ impl Model for DriveShaft {
         der.power(self.port_b, -torque * k[self.speed_b]);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let twist = k[self.angle_a] - k[self.angle_b];
         out[self.y_torque] = self.shaft.spring(k).torque_n_m(twist, k[self.speed_a] - k[self.speed_b]);
         out[self.y_twist] = twist;

@@ -399,7 +399,7 @@ impl Model for EhaFlightControl {
         next[self.limit_mode] = p.law.next_limit_mode(k[self.limit_mode], error, 0.0, p.law.raw_rate(error, error_rate, 0.0));
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let op = self.operate(k);
         der[self.current] = op.current_rate;
         der[self.w_motor] = op.motor_acceleration;
@@ -420,7 +420,7 @@ impl Model for EhaFlightControl {
         der.power(p.external, op.p_external);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let op = self.operate(k);
         let p = self.parts(k);
         out[self.y_angle] = k[self.angle];

@@ -63,7 +63,7 @@ impl Model for ElevatorDrive {
         Some(1e-9)
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let chopper = Chopper { supply_voltage_v: k[self.supply] };
         let motor = DcMachine { resistance_ohm: k[self.resistance], inductance_h: k[self.inductance], constant_v_s_per_rad: k[self.k] };
         let drum = CableDrum { radius_m: k[self.radius] };
@@ -79,7 +79,7 @@ impl Model for ElevatorDrive {
         der.power(self.unbalance, unbalance.power_w(der[self.height]));
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         out[self.cabin_speed] = k[self.radius] * k[self.speed];
         out[self.cabin_height] = k[self.height];
         out[self.motor_current] = k[self.current];

@@ -107,7 +107,7 @@ impl Model for Fan {
         next[self.power_flow] = reducer.next_power_flow(k[self.power_flow], torque * speed, rate);
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let (inertia, w) = (self.fan.inertia(k), k[self.w]);
         let acceleration = self.acceleration(k);
         der[self.w] = acceleration;
@@ -120,7 +120,7 @@ impl Model for Fan {
         der.power(self.port, torque * speed_high);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let w = k[self.w];
         out[self.y_speed_high] = self.fan.reducer(k).ratio * w;
         out[self.y_angle_high] = self.fan.reducer(k).ratio * k[self.angle];

@@ -166,7 +166,7 @@ impl Model for InductionMotor {
         self.motor.check(k)
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let op = self.operate(k, false);
         let rotor = self.motor.rotor(k);
         let w = k[self.w];
@@ -187,7 +187,7 @@ impl Model for InductionMotor {
         der.power(e.port, -k[self.load_torque] * w);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let op = self.operate(k, true);
         out[self.y_speed] = k[self.w];
         out[self.y_angle] = k[self.angle];

@@ -491,7 +491,7 @@ impl Model for MemsAccelerometer {
         }
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let p = self.parts(k);
         let op = self.operate(&p, k);
         der[self.x] = op.dx;
@@ -513,7 +513,7 @@ impl Model for MemsAccelerometer {
         der.power(w.bias, op.p_bias);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let p = self.parts(k);
         let op = self.operate(&p, k);
         let sensitivity = p.sensitivity_v_per_m_s2();

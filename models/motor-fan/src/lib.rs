@@ -523,7 +523,7 @@ impl Model for MotorFan {
         }
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         if self.control.filter(k).is_some() {
             let set_point = self.reference(k);
             der[self.reference] = set_point.rate;
@@ -546,7 +546,7 @@ impl Model for MotorFan {
         der[self.actuator_torque_rate] = op.actuator_acceleration;
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let op = self.operate(k, true);
         out[self.y_motor_speed] = op.motor_speed;
         out[self.y_fan_speed] = op.fan_speed;

@@ -134,7 +134,7 @@ impl Model for PowerSteering {
         self.assist.update_modes(k, &self.rack.worm, bar_torque, self.rack.column_speed(k), torque_rate, column_acceleration, next);
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let (bar_torque, motor_torque) = self.couplings(k);
         let (w_wheel, w_column) = (self.driver.wheel_speed(k), self.rack.column_speed(k));
         self.driver.derivatives(k, bar_torque, der);
@@ -144,7 +144,7 @@ impl Model for PowerSteering {
         self.rack.derivatives(k, self.column_angle(k), bar_torque, motor_torque, der);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let (bar_torque, _) = self.couplings(k);
         let w_column = self.rack.column_speed(k);
         let assist = self.assist.operate(k, &self.rack.worm, bar_torque, w_column);

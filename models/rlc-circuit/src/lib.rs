@@ -141,7 +141,7 @@ impl Model for RlcCircuit {
         }
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let e = self.elements(k);
         let u = self.voltage(&e, k);
         let (i_l, u_c, i_rl) = (k[self.i_l], k[self.u_c], k[self.i_rl]);
@@ -158,7 +158,7 @@ impl Model for RlcCircuit {
         der[self.i_rl] = e.line_inductance.current_rate_a_per_s(u - e.line_resistance.voltage_v(i_rl));
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let e = self.elements(k);
         let u = self.voltage(&e, k);
         out[self.u_source] = u;

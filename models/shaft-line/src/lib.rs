@@ -436,7 +436,7 @@ impl Model for ShaftLine {
         }
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let op = self.operate(k);
         der[self.current] = op.current_rate;
         der[self.w_propeller] = op.propeller_acceleration;
@@ -450,7 +450,7 @@ impl Model for ShaftLine {
         der.power(self.supply, op.supply_power);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let op = self.operate(k);
         let line = self.line(k);
         out[self.y_voltage] = op.voltage;

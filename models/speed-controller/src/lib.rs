@@ -81,7 +81,7 @@ impl Model for SpeedController {
         self.torque_limit.update(k, next, &self.control.controller(k), sp.reference - k[self.measured_speed], sp.rate, k[self.integral]);
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let sp = self.set_point(k);
         if self.control.filter(k).is_some() {
             der[self.filtered] = sp.rate;
@@ -90,7 +90,7 @@ impl Model for SpeedController {
         der[self.integral] = self.control.controller(k).integral_rate(sp.reference - k[self.measured_speed], k[self.integral]);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let sp = self.set_point(k);
         out[self.y_torque_command] = self.control.controller(k).command(sp.reference - k[self.measured_speed], k[self.integral]);
         out[self.y_reference] = sp.reference;

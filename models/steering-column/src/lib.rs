@@ -75,7 +75,7 @@ impl Model for SteeringColumn {
         model
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let twist = self.driver.wheel_angle(k) - k[self.column_angle];
         let bar_torque = self.sensor.torque_n_m(k, twist);
         self.driver.derivatives(k, bar_torque, der);
@@ -83,7 +83,7 @@ impl Model for SteeringColumn {
         der.power(self.port, -bar_torque * k[self.column_speed]);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let twist = self.driver.wheel_angle(k) - k[self.column_angle];
         out[self.torsion_bar_torque] = self.sensor.torque_n_m(k, twist);
         out[self.torsion_bar_twist] = twist;

@@ -85,7 +85,7 @@ impl Model for SteeringRack {
         self.rack.update_modes(k, k[self.column_angle], k[self.torsion_bar_torque], k[self.motor_torque], next);
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let (bar_torque, motor_torque, w_column) = (k[self.torsion_bar_torque], k[self.motor_torque], self.rack.column_speed(k));
         der[self.column_angle] = w_column;
         self.rack.derivatives(k, k[self.column_angle], bar_torque, motor_torque, der);
@@ -93,7 +93,7 @@ impl Model for SteeringRack {
         der.power(self.motor_port, motor_torque * self.rack.worm.ratio(k) * w_column);
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let column_angle = k[self.column_angle];
         let op = self.rack.operating(k, column_angle, k[self.torsion_bar_torque], k[self.motor_torque]);
         out[self.y_column_angle] = column_angle;

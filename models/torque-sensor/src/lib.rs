@@ -701,7 +701,7 @@ impl Model for TorqueSensor {
         self.profile(k)?.next_kink(profile_clock(after))
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let s = self.sensor(k);
         let op = self.operating(&s, k);
         match s.topology {
@@ -737,7 +737,7 @@ impl Model for TorqueSensor {
         }
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let s = self.sensor(k);
         let op = self.operating(&s, k);
         let offset = s.zero_torque_demodulated_v();

@@ -352,7 +352,7 @@ impl Model for TractionMotorThermal {
         }
     }
 
-    fn initial_states(&self, k: &Knowns, x0: &mut InitialStates) {
+    fn initial_states<R: Real>(&self, k: &Knowns<R>, x0: &mut InitialStates<R>) {
         let ambient = k[self.ambient];
         let (winding, iron) = if k[self.start] == 2 {
             // The nominal steady state: the nominal losses cross both conductances (one node:
@@ -373,7 +373,7 @@ impl Model for TractionMotorThermal {
         x0[self.t_iron] = iron;
     }
 
-    fn derivatives(&self, k: &Knowns, der: &mut Derivatives) {
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let n = self.network(k);
         let (winding, iron, ambient) = (k[self.t_winding], k[self.t_iron], k[self.ambient]);
         let losses = self.joule_losses_w(k);
@@ -407,7 +407,7 @@ impl Model for TractionMotorThermal {
         der.power(e.cooling_air, -(iron_to_air + body_to_air));
     }
 
-    fn outputs(&self, k: &Knowns, out: &mut Outputs) {
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         let n = self.network(k);
         let (body, to_ambient) = n.one_body();
         let winding = k[self.t_winding];
