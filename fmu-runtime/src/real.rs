@@ -320,11 +320,15 @@ impl Real for Dual {
     fn value(self) -> f64 {
         self.re
     }
+    /// At exactly 0, a kink: the mean of the one-sided derivatives, 0 (what a central
+    /// difference sees there too).
     fn abs(self) -> Self {
         if self.re < 0.0 {
             -self
-        } else {
+        } else if self.re > 0.0 {
             self
+        } else {
+            Dual { re: self.re.abs(), eps: 0.0 }
         }
     }
     fn signum(self) -> Self {
@@ -487,6 +491,7 @@ mod tests {
         assert_eq!(relu(Dual::new(2.0, 1.0)).eps, 3.0);
         assert_eq!(relu(Dual::new(-2.0, 1.0)).eps, 0.0);
         assert_eq!(Dual::new(-2.0, 1.0).abs().eps, -1.0);
+        assert_eq!(Dual::new(0.0, 1.0).abs().eps, 0.0);
         assert_eq!(Dual::new(1.0, 1.0).clamp(Dual::from(0.0), Dual::from(0.5)).eps, 0.0);
         assert_eq!(Dual::new(2.5, 1.0).floor().eps, 0.0);
         assert_eq!(Dual::new(7.0, 1.0).rem_euclid(Dual::new(3.0, 1.0)), 1.0);

@@ -55,13 +55,13 @@ pub struct PowerSteering {
 impl PowerSteering {
     /// The lower column's angle, rad: the steering wheel's less the torsion bar's twist (the
     /// states are the springs' deflections, each under error control at its own scale).
-    fn column_angle(&self, k: &Knowns) -> f64 {
+    fn column_angle<R: Real>(&self, k: &Knowns<R>) -> R {
         self.driver.wheel_angle(k) - k[self.bar_twist]
     }
 
     /// The torsion bar's torque and the motor's electromagnetic torque, the couplings between the
     /// three parts.
-    fn couplings(&self, k: &Knowns) -> (f64, f64) {
+    fn couplings<R: Real>(&self, k: &Knowns<R>) -> (R, R) {
         let bar_torque = self.sensor.torque_n_m(k, k[self.bar_twist]);
         let w_column = self.rack.column_speed(k);
         (bar_torque, self.assist.operate(k, &self.rack.worm, bar_torque, w_column).motor_torque)

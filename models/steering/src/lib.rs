@@ -94,12 +94,12 @@ pub struct Driver {
 }
 
 /// The driver's side at one instant.
-pub struct DriverForces {
-    pub reference_acceleration: f64,
-    pub driver_torque: f64,
-    pub driver_power: f64,
-    pub arm_power: f64,
-    pub arm_damper_power: f64,
+pub struct DriverForces<R = f64> {
+    pub reference_acceleration: R,
+    pub driver_torque: R,
+    pub driver_power: R,
+    pub arm_power: R,
+    pub arm_damper_power: R,
 }
 
 impl Driver {
@@ -136,7 +136,7 @@ impl Driver {
         }
     }
 
-    pub fn input(&self, k: &Knowns) -> DriverInput {
+    pub fn input<R: Real>(&self, k: &Knowns<R>) -> DriverInput {
         if k[self.driver_input] == 2 {
             DriverInput::Torque
         } else {
@@ -146,25 +146,25 @@ impl Driver {
 
     /// The profile's shape, sin(2 pi f t), and its angle amplitude (`profile`: 1 parking, 2 sine
     /// steer).
-    fn profile(&self, k: &Knowns) -> (f64, f64) {
+    fn profile<R: Real>(&self, k: &Knowns<R>) -> (R, R) {
         let (amplitude, frequency) = match k[self.profile] {
             2 => (k[self.sine_amplitude], k[self.sine_frequency]),
             _ => (k[self.parking_amplitude], k[self.parking_frequency]),
         };
-        ((2.0 * PI * frequency * k.time()).sin(), amplitude)
+        ((frequency * (2.0 * PI) * k.time()).sin(), amplitude)
     }
 
     /// The steering-wheel angle, rad: the driver's angle less the arm's deflection.
-    pub fn wheel_angle(&self, k: &Knowns) -> f64 {
+    pub fn wheel_angle<R: Real>(&self, k: &Knowns<R>) -> R {
         k[self.reference] - k[self.arm_stretch]
     }
 
-    pub fn wheel_speed(&self, k: &Knowns) -> f64 {
+    pub fn wheel_speed<R: Real>(&self, k: &Knowns<R>) -> R {
         k[self.w_wheel]
     }
 
     /// The driver's filter, torque and powers.
-    pub fn forces(&self, k: &Knowns) -> DriverForces {
+    pub fn forces<R: Real>(&self, k: &Knowns<R>) -> DriverForces<R> {
         let filter = SecondOrderFilter::from_angular_frequency(k[self.filter_frequency], k[self.filter_damping]);
         let arm = TorsionSpring { stiffness_n_m_per_rad: k[self.k_arm], damping_n_m_s_per_rad: k[self.d_arm] };
         let (reference, reference_rate, w_wheel) = (k[self.reference], k[self.reference_rate], k[self.w_wheel]);
@@ -184,19 +184,19 @@ impl Driver {
             }
             DriverInput::Torque => {
                 let driver_torque = k[self.torque_amplitude] * shape + k[self.torque_in];
-                DriverForces { reference_acceleration, driver_torque, driver_power: driver_torque * w_wheel, arm_power: 0.0, arm_damper_power: 0.0 }
+                DriverForces { reference_acceleration, driver_torque, driver_power: driver_torque * w_wheel, arm_power: R::from(0.0), arm_damper_power: R::from(0.0) }
             }
         }
     }
 
     /// The steering wheel's angular acceleration under the torsion bar's torque.
-    pub fn wheel_acceleration(&self, k: &Knowns, f: &DriverForces, bar_torque_n_m: f64) -> f64 {
+    pub fn wheel_acceleration<R: Real>(&self, k: &Knowns<R>, f: &DriverForces<R>, bar_torque_n_m: R) -> R {
         Inertia { inertia_kg_m2: k[self.j_wheel] }.acceleration_rad_per_s2(f.driver_torque - bar_torque_n_m)
     }
 
     /// The driver's states' derivatives and elements' powers, the torsion bar holding the steering
     /// wheel with `bar_torque_n_m`.
-    pub fn derivatives(&self, k: &Knowns, bar_torque_n_m: f64, der: &mut Derivatives) {
+    pub fn derivatives<R: Real>(&self, k: &Knowns<R>, bar_torque_n_m: R, der: &mut Derivatives<R>) {
         let f = self.forces(k);
         let acceleration = self.wheel_acceleration(k, &f, bar_torque_n_m);
         let w_wheel = k[self.w_wheel];
@@ -225,16 +225,16 @@ impl Sensor {
         }
     }
 
-    pub fn bar(&self, k: &Knowns) -> TorsionBar {
-        TorsionBar { stiffness_n_m_per_rad: k[self.k_torsion_bar], stop_angle_rad: f64::INFINITY }
+    pub fn bar<R: Real>(&self, k: &Knowns<R>) -> TorsionBar<R> {
+        TorsionBar { stiffness_n_m_per_rad: k[self.k_torsion_bar], stop_angle_rad: R::from(f64::INFINITY) }
     }
 
     /// The torque the sensor measures, K x twist.
-    pub fn torque_n_m(&self, k: &Knowns, twist_rad: f64) -> f64 {
+    pub fn torque_n_m<R: Real>(&self, k: &Knowns<R>, twist_rad: R) -> R {
         self.bar(k).stiffness_n_m_per_rad * twist_rad
     }
 
-    pub fn report(&self, k: &Knowns, twist_rad: f64, twist_rate: f64, der: &mut Derivatives) {
+    pub fn report<R: Real>(&self, k: &Knowns<R>, twist_rad: R, twist_rate: R, der: &mut Derivatives<R>) {
         der.power(self.element, self.torque_n_m(k, twist_rad) * twist_rate);
     }
 
@@ -277,16 +277,16 @@ impl Worm {
         Self::declare_with(d, false)
     }
 
-    pub fn ratio(&self, k: &Knowns) -> f64 {
+    pub fn ratio<R: Real>(&self, k: &Knowns<R>) -> R {
         k[self.ratio]
     }
 
-    pub fn forward_efficiency(&self, k: &Knowns) -> f64 {
+    pub fn forward_efficiency<R: Real>(&self, k: &Knowns<R>) -> R {
         k[self.forward]
     }
 
     /// The gear (the motor side's declaration has no backward efficiency: it reads as the forward).
-    pub fn gear(&self, k: &Knowns) -> WormGear {
+    pub fn gear<R: Real>(&self, k: &Knowns<R>) -> WormGear<R> {
         let backward = self.backward.map_or(k[self.forward], |b| k[b]);
         WormGear { ratio: k[self.ratio], forward_efficiency: k[self.forward], backward_efficiency: backward }
     }
@@ -326,15 +326,15 @@ pub struct Assist {
 }
 
 /// The assistance at one instant.
-pub struct AssistOperating {
-    pub assist_demand: f64,
-    pub current_command: f64,
-    pub current_error: f64,
-    pub voltage: f64,
-    pub current_rate: f64,
-    pub integral_rate: f64,
+pub struct AssistOperating<R = f64> {
+    pub assist_demand: R,
+    pub current_command: R,
+    pub current_error: R,
+    pub voltage: R,
+    pub current_rate: R,
+    pub integral_rate: R,
     /// The electromagnetic torque k i on the motor's shaft.
-    pub motor_torque: f64,
+    pub motor_torque: R,
 }
 
 impl Assist {
@@ -367,34 +367,34 @@ impl Assist {
         d.element("electromechanical_transformer", "Motor", DcMachine::TRANSFORMER).describe("the motor's E = k w, C = k i (eq. 3.9)");
     }
 
-    pub fn motor(&self, k: &Knowns) -> DcMachine {
+    pub fn motor<R: Real>(&self, k: &Knowns<R>) -> DcMachine<R> {
         DcMachine { resistance_ohm: k[self.r_motor], inductance_h: k[self.l_motor], constant_v_s_per_rad: k[self.k_motor] }
     }
 
     /// From the assistance torque demanded at the column to the current that gives it while the
     /// motor drives (N eta_f k i), saturated at I_max.
-    fn law(&self, k: &Knowns, worm: &Worm) -> PiController {
+    fn law<R: Real>(&self, k: &Knowns<R>, worm: &Worm) -> PiController<R> {
         PiController {
-            proportional_gain: 1.0 / (worm.ratio(k) * worm.forward_efficiency(k) * k[self.k_motor]),
-            integral_gain: 0.0,
+            proportional_gain: R::from(1.0) / (worm.ratio(k) * worm.forward_efficiency(k) * k[self.k_motor]),
+            integral_gain: R::from(0.0),
             output_limit: k[self.i_max],
-            tracking_time_s: 1.0,
+            tracking_time_s: R::from(1.0),
         }
     }
 
-    fn current_loop(&self, k: &Knowns) -> PiController {
+    fn current_loop<R: Real>(&self, k: &Knowns<R>) -> PiController<R> {
         PiController { proportional_gain: k[self.kp_current], integral_gain: k[self.ki_current], output_limit: k[self.u_battery], tracking_time_s: k[self.tracking_time] }
     }
 
-    pub fn current(&self, k: &Knowns) -> f64 {
+    pub fn current<R: Real>(&self, k: &Knowns<R>) -> R {
         k[self.current]
     }
 
     /// The law, the loop and the armature, for the measured torque and the column's speed.
-    pub fn operate(&self, k: &Knowns, worm: &Worm, measured_torque_n_m: f64, w_column: f64) -> AssistOperating {
+    pub fn operate<R: Real>(&self, k: &Knowns<R>, worm: &Worm, measured_torque_n_m: R, w_column: R) -> AssistOperating<R> {
         let motor = self.motor(k);
         let assist_demand = k[self.assist_gain] * measured_torque_n_m - k[self.assist_damping] * w_column;
-        let current_command = self.law(k, worm).command(assist_demand, 0.0);
+        let current_command = self.law(k, worm).command(assist_demand, R::from(0.0));
         let (i, integral) = (k[self.current], k[self.current_integral]);
         let current_error = current_command - i;
         let current_loop = self.current_loop(k);
@@ -430,7 +430,7 @@ impl Assist {
     }
 
     /// The current's and the integral's derivatives and the electrical elements' powers.
-    pub fn derivatives(&self, k: &Knowns, worm: &Worm, measured_torque_n_m: f64, w_column: f64, der: &mut Derivatives) {
+    pub fn derivatives<R: Real>(&self, k: &Knowns<R>, worm: &Worm, measured_torque_n_m: R, w_column: R, der: &mut Derivatives<R>) {
         let op = self.operate(k, worm, measured_torque_n_m, w_column);
         let (motor, i) = (self.motor(k), k[self.current]);
         der[self.current] = op.current_rate;
@@ -494,39 +494,39 @@ struct RackElements {
 }
 
 /// The components at the current parameter values (the wheel side counts both wheels).
-struct RackParts {
-    worm: WormGear,
-    column: Inertia,
-    rotor: Inertia,
-    motor_friction_n_m_s_per_rad: f64,
-    column_friction_n_m: f64,
-    pinion: RackAndPinion,
-    rack: Mass,
-    tie_rods: TranslationalSpring,
-    lever: Lever,
+struct RackParts<R = f64> {
+    worm: WormGear<R>,
+    column: Inertia<R>,
+    rotor: Inertia<R>,
+    motor_friction_n_m_s_per_rad: R,
+    column_friction_n_m: R,
+    pinion: RackAndPinion<R>,
+    rack: Mass<R>,
+    tie_rods: TranslationalSpring<R>,
+    lever: Lever<R>,
     rigid_tie_rods: bool,
-    rims: Inertia,
-    tire: TorsionSpring,
-    treads: Inertia,
-    ground: CoulombFriction,
-    gravity: TorsionSpring,
+    rims: Inertia<R>,
+    tire: TorsionSpring<R>,
+    treads: Inertia<R>,
+    ground: CoulombFriction<R>,
+    gravity: TorsionSpring<R>,
 }
 
 /// The mechanics at one instant, for one worm mode.
 #[derive(Default)]
-pub struct RackOperating {
-    pub worm_torque: f64,
+pub struct RackOperating<R = f64> {
+    pub worm_torque: R,
     /// The worm wheel's torque on the column.
-    pub assist_torque: f64,
-    pub column_friction: f64,
-    pub column_acceleration: f64,
+    pub assist_torque: R,
+    pub column_friction: R,
+    pub column_acceleration: R,
     /// The tie rods' tension (both rods).
-    pub rack_force: f64,
-    pub tie_rod_stretch_rate: f64,
-    pub rim_acceleration: f64,
-    pub tire_torque: f64,
-    pub tread_acceleration: f64,
-    pub ground_torque: f64,
+    pub rack_force: R,
+    pub tie_rod_stretch_rate: R,
+    pub rim_acceleration: R,
+    pub tire_torque: R,
+    pub tread_acceleration: R,
+    pub ground_torque: R,
 }
 
 impl Rack {
@@ -584,7 +584,7 @@ impl Rack {
         d.neglected("Tie rods", TranslationalSpring::DAMPING, "the steel rods' internal damping (the tires damp the wheels)");
     }
 
-    fn parts(&self, k: &Knowns) -> RackParts {
+    fn parts<R: Real>(&self, k: &Knowns<R>) -> RackParts<R> {
         RackParts {
             worm: self.worm.gear(k),
             column: Inertia { inertia_kg_m2: k[self.j_column] },
@@ -593,24 +593,24 @@ impl Rack {
             column_friction_n_m: k[self.column_friction],
             pinion: RackAndPinion { pinion_radius_m: k[self.r_pinion] },
             rack: Mass { mass_kg: k[self.m_rack] },
-            tie_rods: TranslationalSpring { stiffness_n_per_m: WHEELS * k[self.k_tie_rod], damping_n_s_per_m: 0.0 },
+            tie_rods: TranslationalSpring { stiffness_n_per_m: k[self.k_tie_rod] * WHEELS, damping_n_s_per_m: R::from(0.0) },
             lever: Lever { arm_m: k[self.lever_arm] },
             rigid_tie_rods: k[self.rigid_tie_rods],
-            rims: Inertia { inertia_kg_m2: WHEELS * k[self.j_rim] },
-            tire: TorsionSpring { stiffness_n_m_per_rad: WHEELS * k[self.k_tire], damping_n_m_s_per_rad: WHEELS * k[self.d_tire] },
-            treads: Inertia { inertia_kg_m2: WHEELS * k[self.j_tread] },
-            ground: CoulombFriction { coulomb_n_m: WHEELS * k[self.t_friction], static_n_m: WHEELS * k[self.t_friction] },
-            gravity: TorsionSpring { stiffness_n_m_per_rad: WHEELS * k[self.k_gravity], damping_n_m_s_per_rad: 0.0 },
+            rims: Inertia { inertia_kg_m2: k[self.j_rim] * WHEELS },
+            tire: TorsionSpring { stiffness_n_m_per_rad: k[self.k_tire] * WHEELS, damping_n_m_s_per_rad: k[self.d_tire] * WHEELS },
+            treads: Inertia { inertia_kg_m2: k[self.j_tread] * WHEELS },
+            ground: CoulombFriction { coulomb_n_m: k[self.t_friction] * WHEELS, static_n_m: k[self.t_friction] * WHEELS },
+            gravity: TorsionSpring { stiffness_n_m_per_rad: k[self.k_gravity] * WHEELS, damping_n_m_s_per_rad: R::from(0.0) },
         }
     }
 
-    pub fn column_speed(&self, k: &Knowns) -> f64 {
+    pub fn column_speed<R: Real>(&self, k: &Knowns<R>) -> R {
         k[self.w_column]
     }
 
     /// The wheels' speed about their pivots, rad/s: the state with compliant tie rods, the rack's
     /// through the levers with rigid ones (the state then stays at 0).
-    fn rim_speed(&self, k: &Knowns) -> f64 {
+    fn rim_speed<R: Real>(&self, k: &Knowns<R>) -> R {
         if k[self.rigid_tie_rods] {
             k[self.r_pinion] / k[self.lever_arm] * k[self.w_column]
         } else {
@@ -619,20 +619,20 @@ impl Rack {
     }
 
     /// The rack's position from the column's angle, m.
-    pub fn rack_position(&self, k: &Knowns, column_angle: f64) -> f64 {
+    pub fn rack_position<R: Real>(&self, k: &Knowns<R>, column_angle: R) -> R {
         RackAndPinion { pinion_radius_m: k[self.r_pinion] }.rack_velocity_m_per_s(column_angle)
     }
 
     /// The wheels' angle from the column's angle and the tie rods' stretch, rad (each under error
     /// control at its own scale: a tie rod stretches by microns while the rack travels
     /// centimetres).
-    pub fn wheel_angle(&self, k: &Knowns, column_angle: f64) -> f64 {
+    pub fn wheel_angle<R: Real>(&self, k: &Knowns<R>, column_angle: R) -> R {
         (self.rack_position(k, column_angle) - k[self.tie_rod_stretch]) / k[self.lever_arm]
     }
 
     /// The mechanics under the torsion bar's torque on the column and the motor's
     /// electromagnetic torque, in worm mode `worm_mode`.
-    pub fn operate(&self, k: &Knowns, column_angle: f64, bar_torque: f64, motor_torque: f64, worm_mode: i32) -> RackOperating {
+    pub fn operate<R: Real>(&self, k: &Knowns<R>, column_angle: R, bar_torque: R, motor_torque: R, worm_mode: i32) -> RackOperating<R> {
         let p = self.parts(k);
         let mut op = RackOperating::default();
         let (w_column, w_rim, w_tread) = (k[self.w_column], self.rim_speed(k), k[self.w_tread]);
@@ -640,10 +640,10 @@ impl Rack {
         // Tires and treads.
         let rim_angle = self.wheel_angle(k, column_angle);
         op.tire_torque = p.tire.torque_n_m(k[self.tire_twist], w_rim - w_tread);
-        let wheel_load = op.tire_torque + p.gravity.torque_n_m(rim_angle, 0.0);
+        let wheel_load = op.tire_torque + p.gravity.torque_n_m(rim_angle, R::from(0.0));
         if k[self.tread_mode] == 0 {
             op.ground_torque = -op.tire_torque;
-            op.tread_acceleration = 0.0;
+            op.tread_acceleration = R::from(0.0);
         } else {
             op.ground_torque = p.ground.slip_torque_n_m(k[self.tread_mode]);
             op.tread_acceleration = p.treads.acceleration_rad_per_s2(op.tire_torque + op.ground_torque);
@@ -655,10 +655,10 @@ impl Rack {
         let (load, wheels_inertia) = if p.rigid_tie_rods {
             (bar_torque - ratio * wheel_load, ratio * ratio * p.rims.inertia_kg_m2)
         } else {
-            op.rack_force = p.tie_rods.force_n(k[self.tie_rod_stretch], 0.0);
-            (bar_torque - p.pinion.pinion_torque_n_m(op.rack_force), 0.0)
+            op.rack_force = p.tie_rods.force_n(k[self.tie_rod_stretch], R::from(0.0));
+            (bar_torque - p.pinion.pinion_torque_n_m(op.rack_force), R::from(0.0))
         };
-        op.tie_rod_stretch_rate = if p.rigid_tie_rods { 0.0 } else { p.pinion.rack_velocity_m_per_s(w_column) - p.lever.rod_velocity_m_per_s(w_rim) };
+        op.tie_rod_stretch_rate = if p.rigid_tie_rods { R::from(0.0) } else { p.pinion.rack_velocity_m_per_s(w_column) - p.lever.rod_velocity_m_per_s(w_rim) };
 
         // The column, the worm and the motor's rotor move as one: with e the worm's torque
         // factor for the power's direction (eta_f, or 1/eta_b) and s the direction of motion,
@@ -669,13 +669,13 @@ impl Rack {
         let w_motor = n * w_column;
         let drive = motor_torque - p.motor_friction_n_m_s_per_rad * w_motor;
         if worm_mode == GearMode::STUCK {
-            op.column_acceleration = 0.0;
+            op.column_acceleration = R::from(0.0);
             op.worm_torque = drive;
             op.assist_torque = -load;
         } else {
             let forward = GearMode::forward(worm_mode);
-            op.column_friction = -GearMode::direction(worm_mode) * p.column_friction_n_m;
-            let e = p.worm.low_side_torque_flowing_n_m(1.0, forward) / n;
+            op.column_friction = p.column_friction_n_m * -GearMode::direction(worm_mode);
+            let e = p.worm.low_side_torque_flowing_n_m(R::from(1.0), forward) / n;
             let inertia = p.column.inertia_kg_m2 + p.pinion.referred_inertia_kg_m2(p.rack.mass_kg) + wheels_inertia + e * n * n * p.rotor.inertia_kg_m2;
             op.column_acceleration = (load + op.column_friction + n * e * drive) / inertia;
             op.worm_torque = drive - p.rotor.inertia_kg_m2 * n * op.column_acceleration;
@@ -729,17 +729,17 @@ impl Rack {
     }
 
     /// The column's acceleration in the current worm mode.
-    pub fn column_acceleration(&self, k: &Knowns, column_angle: f64, bar_torque: f64, motor_torque: f64) -> f64 {
+    pub fn column_acceleration<R: Real>(&self, k: &Knowns<R>, column_angle: R, bar_torque: R, motor_torque: R) -> R {
         self.operate(k, column_angle, bar_torque, motor_torque, k[self.worm_flow]).column_acceleration
     }
 
     /// The current mode's mechanics (for outputs).
-    pub fn operating(&self, k: &Knowns, column_angle: f64, bar_torque: f64, motor_torque: f64) -> RackOperating {
+    pub fn operating<R: Real>(&self, k: &Knowns<R>, column_angle: R, bar_torque: R, motor_torque: R) -> RackOperating<R> {
         self.operate(k, column_angle, bar_torque, motor_torque, k[self.worm_flow])
     }
 
     /// The states' derivatives (all but the column's angle) and the elements' powers.
-    pub fn derivatives(&self, k: &Knowns, column_angle: f64, bar_torque: f64, motor_torque: f64, der: &mut Derivatives) {
+    pub fn derivatives<R: Real>(&self, k: &Knowns<R>, column_angle: R, bar_torque: R, motor_torque: R, der: &mut Derivatives<R>) {
         let p = self.parts(k);
         let op = self.operate(k, column_angle, bar_torque, motor_torque, k[self.worm_flow]);
         let (w_column, w_rim, w_tread) = (k[self.w_column], self.rim_speed(k), k[self.w_tread]);

@@ -279,29 +279,29 @@ enum Drive {
 }
 
 /// Everything the equations give at one instant; derivatives and outputs both read it.
-struct Operating {
-    torque: f64,
-    twist: f64,
-    supply: f64,
-    i_a: f64,
-    i_b: f64,
-    flux_a: f64,
-    flux_b: f64,
-    l_a: f64,
-    l_b: f64,
+struct Operating<R = f64> {
+    torque: R,
+    twist: R,
+    supply: R,
+    i_a: R,
+    i_b: R,
+    flux_a: R,
+    flux_b: R,
+    l_a: R,
+    l_b: R,
     /// d(flux linkage)/dt of the windings in one arm (book's topology), V.
-    linkage_rate: f64,
-    bridge: f64,
-    product: f64,
-    twist_rate: f64,
+    linkage_rate: R,
+    bridge: R,
+    product: R,
+    twist_rate: R,
     /// d(flux)/dt through winding A and through winding B, Wb/s (the states' rates with a
     /// resistor above each winding; from the flux linkage's in the book's arm).
-    flux_a_rate: f64,
-    flux_b_rate: f64,
+    flux_a_rate: R,
+    flux_b_rate: R,
 }
 
 impl TorqueSensor {
-    fn sensor(&self, k: &Knowns) -> Sensor {
+    fn sensor<R: Real>(&self, k: &Knowns<R>) -> Sensor<R> {
         use std::f64::consts::PI;
         let book = k[self.sensor_data] == 1;
         let (fixed_a, fixed_b, question4_gap, teeth, teeth_sign, stop);
@@ -315,7 +315,7 @@ impl TorqueSensor {
             let pole = Reluctance::radial(k[self.pole_r_inner], k[self.pole_r_outer], k[self.pole_width], mu);
             let yoke = yoke.series(pole).series(pole);
             // AirGap1, AirGap2 and the ring (AxialIron2) of each part
-            let ring = |length: f64| Reluctance::axial_annulus(length, k[self.ring_r_inner], k[self.ring_r_outer], mu);
+            let ring = |length: R| Reluctance::axial_annulus(length, k[self.ring_r_inner], k[self.ring_r_outer], mu);
             let gap_b = Reluctance::radial_air_gap(k[self.r1_b], k[self.r2_b], k[self.b_b]);
             fixed_a = yoke.series(gap_a).series(gap_a).series(ring(k[self.ring_a_length]));
             fixed_b = yoke.series(gap_b).series(gap_b).series(ring(k[self.ring_b_length]));
@@ -323,9 +323,9 @@ impl TorqueSensor {
             (iron_b, air_gaps_b) = (yoke.series(ring(k[self.ring_b_length])), gap_b.series(gap_b));
             let faces = ToothFaces::Axial { inner_radius_m: k[self.teeth_r_inner], outer_radius_m: k[self.teeth_r_outer] };
             teeth = ToothedAirGap::half_pitch(k[self.teeth_poles], faces, k[self.teeth_gap]);
-            teeth_sign = -1.0;
+            teeth_sign = R::from(-1.0);
         } else {
-            let iron = Reluctance::uniform(k[self.iron_path_length], 2.0 * PI * k[self.r1] * k[self.b], k[self.mu_r_iron_path]);
+            let iron = Reluctance::uniform(k[self.iron_path_length], k[self.r1] * (2.0 * PI) * k[self.b], k[self.mu_r_iron_path]);
             fixed_a = gap_a.series(gap_a).series(iron);
             fixed_b = fixed_a;
             (iron_a, air_gaps_a) = (iron, gap_a.series(gap_a));
@@ -337,7 +337,7 @@ impl TorqueSensor {
                 tooth_width_rad: k[self.tooth_width],
                 rest_overlap_rad: k[self.rest_overlap],
             };
-            teeth_sign = 1.0;
+            teeth_sign = R::from(1.0);
         }
         question4_gap = gap_a;
         stop = k[self.twist_stop];
@@ -366,7 +366,7 @@ impl TorqueSensor {
         }
     }
 
-    fn supply_mode(&self, k: &Knowns) -> Supply {
+    fn supply_mode<R: Real>(&self, k: &Knowns<R>) -> Supply {
         if k[self.supply_mode] == 2 {
             Supply::Step
         } else {
@@ -374,7 +374,7 @@ impl TorqueSensor {
         }
     }
 
-    fn drive(&self, k: &Knowns) -> Drive {
+    fn drive<R: Real>(&self, k: &Knowns<R>) -> Drive {
         if k[self.twist_drive] == 1 {
             Drive::Position
         } else {
@@ -384,13 +384,13 @@ impl TorqueSensor {
 
     /// The built-in profile of the driven quantity, if any (0: none, 1: step, 2: ramp): the input
     /// shaft's angle (position drive) or the torque (torque drive).
-    fn profile(&self, k: &Knowns) -> Option<Ramp> {
+    fn profile<R: Real>(&self, k: &Knowns<R>) -> Option<Ramp<R>> {
         let (kind, height, start, duration) = match self.drive(k) {
             Drive::Position => (self.twist_profile, self.twist_profile_height, self.twist_profile_start, self.twist_profile_duration),
             Drive::Torque => (self.torque_profile, self.profile_height, self.profile_start, self.profile_duration),
         };
         let duration = match k[kind] {
-            1 => 0.0,
+            1 => R::from(0.0),
             2 => k[duration],
             _ => return None,
         };
@@ -398,43 +398,43 @@ impl TorqueSensor {
     }
 
     /// The smoothing of the imposed angle (the book's position source): None when exact.
-    fn position_filter(&self, k: &Knowns) -> Option<SecondOrderFilter> {
+    fn position_filter<R: Real>(&self, k: &Knowns<R>) -> Option<SecondOrderFilter<R>> {
         let f = k[self.position_f_crit];
         (self.drive(k) == Drive::Position && f > 0.0).then(|| SecondOrderFilter::bessel(f))
     }
 
     /// The reference angle of the input shaft (position drive), rad, and its rate.
-    fn angle_reference(&self, k: &Knowns) -> (f64, f64) {
-        let t = profile_clock(k.time());
+    fn angle_reference<R: Real>(&self, k: &Knowns<R>) -> (R, R) {
+        let t = R::from(profile_clock(k.time()));
         let p = self.profile(k);
-        (k[self.twist_in] + p.map_or(0.0, |p| p.value(t)), p.map_or(0.0, |p| p.slope(t)))
+        (k[self.twist_in] + p.map_or(R::from(0.0), |p| p.value(t)), p.map_or(R::from(0.0), |p| p.slope(t)))
     }
 
     /// (torque, twist, twist rate) at this instant.
-    fn mechanics(&self, s: &Sensor, k: &Knowns) -> (f64, f64, f64) {
-        let t = profile_clock(k.time());
+    fn mechanics<R: Real>(&self, s: &Sensor<R>, k: &Knowns<R>) -> (R, R, R) {
+        let t = R::from(profile_clock(k.time()));
         let bar = s.torsion_bar;
         match self.drive(k) {
             Drive::Position => {
                 let (twist, rate) = match self.position_filter(k) {
-                    Some(f) => (k[self.position], 2.0 * std::f64::consts::PI * f.natural_frequency_hz * k[self.position_z]),
+                    Some(f) => (k[self.position], f.natural_frequency_hz * (2.0 * std::f64::consts::PI) * k[self.position_z]),
                     None => self.angle_reference(k),
                 };
                 (bar.stiffness_n_m_per_rad * twist, twist, rate)
             }
             Drive::Torque => {
                 let p = self.profile(k);
-                let torque = k[self.torque_in] + p.map_or(0.0, |p| p.value(t));
+                let torque = k[self.torque_in] + p.map_or(R::from(0.0), |p| p.value(t));
                 let twist = bar.twist_rad(torque);
                 let free = (torque / bar.stiffness_n_m_per_rad).abs() < bar.stop_angle_rad;
-                let rate = if free { p.map_or(0.0, |p| p.slope(t)) / bar.stiffness_n_m_per_rad } else { 0.0 };
+                let rate = if free { p.map_or(R::from(0.0), |p| p.slope(t)) / bar.stiffness_n_m_per_rad } else { R::from(0.0) };
                 (torque, twist, rate)
             }
         }
     }
 
-    fn operating(&self, s: &Sensor, k: &Knowns) -> Operating {
-        let t = k.time();
+    fn operating<R: Real>(&self, s: &Sensor<R>, k: &Knowns<R>) -> Operating<R> {
+        let t = R::from(k.time());
         let (torque, twist, twist_rate) = self.mechanics(s, k);
         let supply = match self.supply_mode(k) {
             Supply::Carrier => s.supply.voltage_v(t),
@@ -449,7 +449,7 @@ impl TorqueSensor {
                 // one current through A and B: N (flux_A + flux_B) = (L_A + L_B) i
                 let linkage = k[self.flux_linkage];
                 let i = linkage / (l_a + l_b);
-                linkage_rate = supply - 2.0 * r_w * i;
+                linkage_rate = supply - r_w * 2.0 * i;
                 // the windings' midpoint: R_w i + d(L_B i)/dt, with L_B i = rho linkage,
                 // rho = L_B / (L_A + L_B) changing with the twist (the motional term)
                 let (dl_a, dl_b) = s.inductance_rates_h_per_rad(twist);
@@ -463,14 +463,14 @@ impl TorqueSensor {
                 (flux_a, flux_b) = (l_a * i / n, l_b * i / n);
                 // N flux_B = rho linkage, N flux_A = (1 - rho) linkage
                 flux_b_rate = (rho * linkage_rate + linkage * rho_rate) / n;
-                flux_a_rate = ((1.0 - rho) * linkage_rate - linkage * rho_rate) / n;
+                flux_a_rate = ((R::from(1.0) - rho) * linkage_rate - linkage * rho_rate) / n;
             }
             Topology::ResistorAboveEachWinding => {
                 (flux_a, flux_b) = (k[self.flux_a], k[self.flux_b]);
                 i_a = s.winding.current_a(flux_a, s.circuit_a(twist));
                 i_b = s.winding.current_a(flux_b, s.circuit_b(twist));
                 bridge = s.r_arm_ohm * (i_b - i_a);
-                linkage_rate = 0.0;
+                linkage_rate = R::from(0.0);
                 let r_b = s.r_arm_ohm;
                 flux_a_rate = s.winding.flux_rate_wb_per_s(supply - r_b * i_a, i_a);
                 flux_b_rate = s.winding.flux_rate_wb_per_s(supply - r_b * i_b, i_b);
@@ -498,7 +498,7 @@ impl TorqueSensor {
     /// Each element's power at this instant (`Elements`): the supply's into the bridge = the
     /// resistances' losses + the reluctances' mmf dflux/dt; the R-L model's source = its L i di/dt
     /// + its losses; the driver's torque x twist rate = the torsion bar's K twist dtwist/dt.
-    fn report_powers(&self, s: &Sensor, op: &Operating, i_rl: f64, i_rl_rate: f64, der: &mut Derivatives) {
+    fn report_powers<R: Real>(&self, s: &Sensor<R>, op: &Operating<R>, i_rl: R, i_rl_rate: R, der: &mut Derivatives<R>) {
         let e = &self.elements;
         let u = op.supply;
         let r_w = s.winding.resistance_ohm;
@@ -530,8 +530,8 @@ impl TorqueSensor {
     }
 
     /// The filter's natural angular frequency: its second state is y' / wn (in V, like y).
-    fn filter_wn(s: &Sensor) -> f64 {
-        2.0 * std::f64::consts::PI * s.filter.natural_frequency_hz
+    fn filter_wn<R: Real>(s: &Sensor<R>) -> R {
+        s.filter.natural_frequency_hz * (2.0 * std::f64::consts::PI)
     }
 }
 
@@ -707,11 +707,11 @@ impl Model for TorqueSensor {
         match s.topology {
             Topology::WindingsInOneArm => {
                 der[self.flux_linkage] = op.linkage_rate;
-                der[self.flux_a] = 0.0;
-                der[self.flux_b] = 0.0;
+                der[self.flux_a] = R::from(0.0);
+                der[self.flux_b] = R::from(0.0);
             }
             Topology::ResistorAboveEachWinding => {
-                der[self.flux_linkage] = 0.0;
+                der[self.flux_linkage] = R::from(0.0);
                 der[self.flux_a] = op.flux_a_rate;
                 der[self.flux_b] = op.flux_b_rate;
             }
@@ -725,14 +725,14 @@ impl Model for TorqueSensor {
         der[self.filter_z] = s.filter.acceleration(s.filter_gain * op.product, y, wn * z) / wn;
         match self.position_filter(k) {
             Some(f) => {
-                let wp = 2.0 * std::f64::consts::PI * f.natural_frequency_hz;
+                let wp = f.natural_frequency_hz * (2.0 * std::f64::consts::PI);
                 let (phi, zp) = (k[self.position], k[self.position_z]);
                 der[self.position] = wp * zp;
                 der[self.position_z] = f.acceleration(self.angle_reference(k).0, phi, wp * zp) / wp;
             }
             None => {
-                der[self.position] = 0.0;
-                der[self.position_z] = 0.0;
+                der[self.position] = R::from(0.0);
+                der[self.position_z] = R::from(0.0);
             }
         }
     }
@@ -758,13 +758,13 @@ impl Model for TorqueSensor {
         out[self.offset_removed] = demodulated - offset;
         out[self.y_measured] = s.measured_torque_n_m(demodulated - offset);
         out[self.l_question4] = s.question4_inductance_h();
-        let (l_a0, l_b0) = s.inductances_h(0.0);
+        let (l_a0, l_b0) = s.inductances_h(R::from(0.0));
         out[self.l_a] = l_a0;
         out[self.l_b] = l_b0;
         out[self.offset] = offset;
         // central difference over +/- 1e-6 of the stop twist: the characteristic is smooth there
-        let h = 1e-6 * s.torsion_bar.stop_angle_rad;
-        out[self.slope] = (s.steady_demodulated_v(h) - s.steady_demodulated_v(-h)) / (2.0 * h) / s.torsion_bar.stiffness_n_m_per_rad;
+        let h = s.torsion_bar.stop_angle_rad * 1e-6;
+        out[self.slope] = (s.steady_demodulated_v(h) - s.steady_demodulated_v(-h)) / (h * 2.0) / s.torsion_bar.stiffness_n_m_per_rad;
     }
 }
 
