@@ -121,34 +121,34 @@ pub struct BoosterNozzle {
 }
 
 /// The parts of one axis at the current parameter values (both axes are made of the same parts).
-struct Parts {
-    nozzle: Inertia,
-    bearing: TorsionSpring,
-    lever: Lever,
-    cylinder: DoubleActingCylinder,
+struct Parts<R = f64> {
+    nozzle: Inertia<R>,
+    bearing: TorsionSpring<R>,
+    lever: Lever<R>,
+    cylinder: DoubleActingCylinder<R>,
     /// One chamber at mid stroke.
-    chamber: FluidVolume,
-    leakage: LaminarLeakage,
-    body: Mass,
-    anchoring: TranslationalSpring,
+    chamber: FluidVolume<R>,
+    leakage: LaminarLeakage<R>,
+    body: Mass<R>,
+    anchoring: TranslationalSpring<R>,
     /// The loop's velocity gain: the valve's flow moves the rod at K_v times the stroke error.
-    k_v: f64,
+    k_v: R,
 }
 
-impl Parts {
+impl<R: Real> Parts<R> {
     /// The two chambers seen from the pressure difference across the piston: C = V / (2 B).
-    fn oil(&self) -> FluidVolume {
+    fn oil(&self) -> FluidVolume<R> {
         self.chamber.in_series(&self.chamber)
     }
 
     /// The piston on its two closed oil columns, k = 2 A^2 B / V.
-    fn oil_stiffness_n_per_m(&self) -> f64 {
+    fn oil_stiffness_n_per_m(&self) -> R {
         self.cylinder.hydraulic_stiffness_n_per_m(&self.chamber, &self.chamber)
     }
 
     /// The undamped two-degree-of-freedom chain with the valve closed: the nozzle (theta) on its
     /// bearing, the oil column at the arm r, the actuator body (x_b) on its anchoring.
-    fn chain(&self) -> TwoDegreesOfFreedom {
+    fn chain(&self) -> TwoDegreesOfFreedom<R> {
         TwoDegreesOfFreedom::chain(
             self.nozzle.inertia_kg_m2,
             self.body.mass_kg,
@@ -163,7 +163,7 @@ impl Parts {
     /// deflects the anchoring by F / K_a and, through the leakage the valve must make up
     /// (dp / R = A K_v (stroke error)), the stroke by F / (A^2 R K_v); the nozzle turns by their
     /// sum over r. Written r^2 K_a A^2 R K_v / (K_a + A^2 R K_v): 0 without the loop (K_v = 0).
-    fn servo_static_stiffness_n_m_per_rad(&self) -> f64 {
+    fn servo_static_stiffness_n_m_per_rad(&self) -> R {
         let loop_stiffness = self.cylinder.piston_area_m2.powi(2) * self.leakage.resistance_pa_s_per_m3 * self.k_v;
         let ka = self.anchoring.stiffness_n_per_m;
         self.lever.arm_m.powi(2) * ka * loop_stiffness / (ka + loop_stiffness)
@@ -172,26 +172,26 @@ impl Parts {
 
 /// One axis at one instant.
 #[derive(Default)]
-struct Operating {
-    command: f64,
-    stroke: f64,
-    valve_flow: f64,
-    pressure_rate: f64,
-    acceleration: f64,
-    body_acceleration: f64,
-    force: f64,
-    hinge_moment: f64,
-    p_inertia: f64,
-    p_bearing_stiffness: f64,
-    p_bearing_damping: f64,
-    p_oil: f64,
-    p_leakage: f64,
-    p_body: f64,
-    p_anchoring: f64,
-    p_anchoring_damping: f64,
-    p_valve: f64,
-    p_offset: f64,
-    p_aero: f64,
+struct Operating<R = f64> {
+    command: R,
+    stroke: R,
+    valve_flow: R,
+    pressure_rate: R,
+    acceleration: R,
+    body_acceleration: R,
+    force: R,
+    hinge_moment: R,
+    p_inertia: R,
+    p_bearing_stiffness: R,
+    p_bearing_damping: R,
+    p_oil: R,
+    p_leakage: R,
+    p_body: R,
+    p_anchoring: R,
+    p_anchoring_damping: R,
+    p_valve: R,
+    p_offset: R,
+    p_aero: R,
 }
 
 /// The servo-valve as Table 3.1 sees it: a modulated flow source fed by the hydraulic supply.
@@ -202,7 +202,7 @@ const OFFSET_TORQUE: Effect = Effect { domains: &[Domain::Rotational], kind: Kin
 const AERO_TORQUE: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Source, what: "aerodynamic torque (input)" };
 
 impl BoosterNozzle {
-    fn parts(&self, k: &Knowns) -> Parts {
+    fn parts<R: Real>(&self, k: &Knowns<R>) -> Parts<R> {
         Parts {
             nozzle: Inertia { inertia_kg_m2: k[self.j_nozzle] },
             bearing: TorsionSpring { stiffness_n_m_per_rad: k[self.k_bearing], damping_n_m_s_per_rad: k[self.d_bearing] },
@@ -217,17 +217,17 @@ impl BoosterNozzle {
     }
 
     /// The built-in profile's deflection (before it is split into pitch and yaw), rad.
-    fn profile_value(&self, k: &Knowns) -> f64 {
+    fn profile_value<R: Real>(&self, k: &Knowns<R>) -> R {
         let (a, t0, t) = (k[self.amplitude], k[self.step_time], k.time());
         match k[self.profile] {
-            1 => Ramp { start_s: t0, duration_s: 0.0, height: a }.value(t),
-            2 if t >= t0 => a * (2.0 * PI * k[self.sine_frequency] * (t - t0)).sin(),
-            _ => 0.0,
+            1 => Ramp { start_s: t0, duration_s: R::from(0.0), height: a }.value(R::from(t)),
+            2 if t >= t0.value() => a * (k[self.sine_frequency] * (2.0 * PI) * (R::from(t) - t0)).sin(),
+            _ => R::from(0.0),
         }
     }
 
     /// The axis's share of a vector of magnitude 1 at an azimuth (pitch cos, yaw sin).
-    fn share(axis: &Axis, azimuth: f64) -> f64 {
+    fn share<R: Real>(axis: &Axis, azimuth: R) -> R {
         if axis.is_pitch {
             azimuth.cos()
         } else {
@@ -235,7 +235,7 @@ impl BoosterNozzle {
         }
     }
 
-    fn operate(&self, axis: &Axis, p: &Parts, k: &Knowns) -> Operating {
+    fn operate<R: Real>(&self, axis: &Axis, p: &Parts<R>, k: &Knowns<R>) -> Operating<R> {
         let (theta, w, dp) = (k[axis.theta], k[axis.w], k[axis.dp]);
         // The body's states are its displacement and velocity referred to the nozzle angle (x / r).
         let (x_b, v_b) = (p.lever.rod_velocity_m_per_s(k[axis.phi_body]), p.lever.rod_velocity_m_per_s(k[axis.w_body]));
@@ -480,7 +480,7 @@ impl Model for BoosterNozzle {
         out[self.k_oil] = p.oil_stiffness_n_per_m();
         out[self.f_actuator_nozzle] = f_low;
         out[self.f_actuator_body] = f_high;
-        out[self.f_bearing] = p.bearing.natural_frequency_hz(p.nozzle.inertia_kg_m2, f64::INFINITY);
+        out[self.f_bearing] = p.bearing.natural_frequency_hz(p.nozzle.inertia_kg_m2, R::from(f64::INFINITY));
         out[self.k_servo_static] = p.servo_static_stiffness_n_m_per_rad();
         out[self.m_nozzle_rod] = p.lever.referred_mass_kg(p.nozzle.inertia_kg_m2);
     }

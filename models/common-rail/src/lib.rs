@@ -146,67 +146,67 @@ struct Powers {
 }
 
 /// The system's parts at the current parameter values.
-struct Parts {
-    pump: RadialPistonPump,
-    fuel: LinearBulkModulus,
-    leakage: LaminarLeakage,
-    valve: PoppetValve,
-    poppet: Mass,
+struct Parts<R = f64> {
+    pump: RadialPistonPump<R>,
+    fuel: LinearBulkModulus<R>,
+    leakage: LaminarLeakage<R>,
+    valve: PoppetValve<R>,
+    poppet: Mass<R>,
     /// The valve's spring (elongation = lift + preload / k) with the poppet's damping.
-    spring: TranslationalSpring,
-    nozzle: InjectorNozzle,
-    needle: NeedleLift,
+    spring: TranslationalSpring<R>,
+    nozzle: InjectorNozzle<R>,
+    needle: NeedleLift<R>,
 }
 
 /// Everything the equations give at one instant.
 #[derive(Default)]
-struct Operating {
-    set_point: f64,
-    solenoid_force: f64,
-    closing_force: f64,
-    net_opening_force: f64,
-    bulk_modulus: f64,
-    pressure_rate: f64,
-    valve_acceleration: f64,
-    pump_flow: f64,
-    filling_flow: f64,
-    pump_torque: f64,
-    needle_lift: f64,
-    injection_flow: f64,
-    relief_flow: f64,
-    leakage_flow: f64,
-    displaced_flow: f64,
-    p_engine: f64,
-    p_feed: f64,
-    p_rail: f64,
-    p_leakage: f64,
-    p_relief: f64,
-    p_valve_mass: f64,
-    p_valve_spring: f64,
-    p_valve_damping: f64,
-    p_solenoid: f64,
-    p_needle_seats: f64,
-    p_nozzle_holes: f64,
-    p_cylinders: f64,
+struct Operating<R = f64> {
+    set_point: R,
+    solenoid_force: R,
+    closing_force: R,
+    net_opening_force: R,
+    bulk_modulus: R,
+    pressure_rate: R,
+    valve_acceleration: R,
+    pump_flow: R,
+    filling_flow: R,
+    pump_torque: R,
+    needle_lift: R,
+    injection_flow: R,
+    relief_flow: R,
+    leakage_flow: R,
+    displaced_flow: R,
+    p_engine: R,
+    p_feed: R,
+    p_rail: R,
+    p_leakage: R,
+    p_relief: R,
+    p_valve_mass: R,
+    p_valve_spring: R,
+    p_valve_damping: R,
+    p_solenoid: R,
+    p_needle_seats: R,
+    p_nozzle_holes: R,
+    p_cylinders: R,
 }
 
 impl CommonRailInjection {
-    fn parts(&self, k: &Knowns) -> Parts {
+    fn parts<R: Real>(&self, k: &Knowns<R>) -> Parts<R> {
         let k_valve = k[self.k_valve];
         Parts {
             pump: RadialPistonPump::three_plungers(k[self.plunger_diameter], k[self.eccentricity]),
             fuel: LinearBulkModulus { at_zero_pa: k[self.b_fuel_0], slope: k[self.db_dp] },
             leakage: LaminarLeakage { resistance_pa_s_per_m3: k[self.r_leakage] },
-            valve: PoppetValve { seat_diameter_m: k[self.seat_diameter], discharge_coefficient: k[self.cd_valve], density_kg_per_m3: DIESEL_DENSITY_KG_PER_M3 },
+            valve: PoppetValve { seat_diameter_m: k[self.seat_diameter], discharge_coefficient: k[self.cd_valve], density_kg_per_m3: R::from(DIESEL_DENSITY_KG_PER_M3) },
             poppet: Mass { mass_kg: k[self.m_valve] },
             spring: TranslationalSpring { stiffness_n_per_m: k_valve, damping_n_s_per_m: k[self.c_valve] },
             nozzle: InjectorNozzle {
-                hole_count: f64::from(k[self.holes]),
+                hole_count: R::from(f64::from(k[self.holes])),
                 hole_diameter_m: k[self.hole_diameter],
                 seat_diameter_m: k[self.needle_seat_diameter],
                 seat_half_angle_rad: k[self.needle_seat_angle],
                 discharge_coefficient: k[self.cd_nozzle],
-                density_kg_per_m3: DIESEL_DENSITY_KG_PER_M3,
+                density_kg_per_m3: R::from(DIESEL_DENSITY_KG_PER_M3),
             },
             needle: NeedleLift {
                 opening_delay_s: k[self.opening_delay],
@@ -218,38 +218,38 @@ impl CommonRailInjection {
         }
     }
 
-    fn cylinder_count(&self, k: &Knowns) -> i32 {
+    fn cylinder_count<R: Real>(&self, k: &Knowns<R>) -> i32 {
         k[self.cylinders].clamp(4, 6)
     }
 
     /// Crank angle between two firings, 4 pi / n, rad.
-    fn firing_interval_rad(&self, k: &Knowns) -> f64 {
+    fn firing_interval_rad<R: Real>(&self, k: &Knowns<R>) -> f64 {
         4.0 * PI / f64::from(self.cylinder_count(k))
     }
 
     /// The built-in profile: at `step_time` the set point and the energizing time step by their steps.
-    fn profile(&self, k: &Knowns) -> [Ramp; 2] {
+    fn profile<R: Real>(&self, k: &Knowns<R>) -> [Ramp<R>; 2] {
         let start_s = k[self.step_time];
-        [Ramp { start_s, duration_s: 0.0, height: k[self.set_point_step] }, Ramp { start_s, duration_s: 0.0, height: k[self.energizing_step] }]
+        [Ramp { start_s, duration_s: R::from(0.0), height: k[self.set_point_step] }, Ramp { start_s, duration_s: R::from(0.0), height: k[self.energizing_step] }]
     }
 
     /// The rail pressure set point, Pa: the input plus the profile's step.
-    fn set_point(&self, k: &Knowns) -> f64 {
-        k[self.set_point_in] + self.profile(k)[0].value(k.time())
+    fn set_point<R: Real>(&self, k: &Knowns<R>) -> R {
+        k[self.set_point_in] + self.profile(k)[0].value(R::from(k.time()))
     }
 
     /// The energizing time commanded now, s: the input plus the profile's step, within the driver's
     /// 0 .. 3 ms.
-    fn energizing_time(&self, k: &Knowns) -> f64 {
-        (k[self.energizing_in] + self.profile(k)[1].value(k.time())).clamp(0.0, ENERGIZING_TIME_MAX_S)
+    fn energizing_time<R: Real>(&self, k: &Knowns<R>) -> R {
+        (k[self.energizing_in] + self.profile(k)[1].value(R::from(k.time()))).clamp(R::from(0.0), R::from(ENERGIZING_TIME_MAX_S))
     }
 
     /// The pump shaft's angle, r theta + phase, rad.
-    fn pump_angle(&self, k: &Knowns) -> f64 {
+    fn pump_angle<R: Real>(&self, k: &Knowns<R>) -> R {
         k[self.pump_ratio] * k[self.crank] + k[self.pump_phase]
     }
 
-    fn delivering(&self, k: &Knowns) -> [bool; PLUNGERS] {
+    fn delivering<R: Real>(&self, k: &Knowns<R>) -> [bool; PLUNGERS] {
         self.plunger_modes.map(|m| k[m] == 1)
     }
 
@@ -268,14 +268,14 @@ impl CommonRailInjection {
     }
 
     /// The net force opening the valve's ball, A p - (F_0 + k x + c v) - F_sol, N.
-    fn net_opening_force(&self, k: &Knowns, p: &Parts) -> f64 {
+    fn net_opening_force<R: Real>(&self, k: &Knowns<R>, p: &Parts<R>) -> R {
         let preload = k[self.f_preload];
-        let solenoid = (p.valve.force_n(self.set_point(k)) - preload).max(0.0);
+        let solenoid = (p.valve.force_n(self.set_point(k)) - preload).max(R::from(0.0));
         let spring = p.spring.force_n(k[self.lift] + preload / p.spring.stiffness_n_per_m, k[self.speed]);
         p.valve.force_n(k[self.pressure]) - spring - solenoid
     }
 
-    fn operate(&self, k: &Knowns) -> Operating {
+    fn operate<R: Real>(&self, k: &Knowns<R>) -> Operating<R> {
         let p = self.parts(k);
         let pressure = k[self.pressure];
         let (x, v) = (k[self.lift], k[self.speed]);
@@ -284,7 +284,7 @@ impl CommonRailInjection {
         // The pressure-control valve: spring preload, the solenoid's force from the set point, the
         // spring's rise with the lift and the damping; the rail's pressure pushes on the seat area.
         let preload = k[self.f_preload];
-        op.solenoid_force = (p.valve.force_n(op.set_point) - preload).max(0.0);
+        op.solenoid_force = (p.valve.force_n(op.set_point) - preload).max(R::from(0.0));
         op.closing_force = preload + op.solenoid_force;
         let preload_elongation = preload / p.spring.stiffness_n_per_m;
         op.net_opening_force = self.net_opening_force(k, &p);
@@ -518,13 +518,13 @@ impl Model for CommonRailInjection {
         // The valve starts where its spring balances the rail pressure (seated below the opening pressure).
         let p = self.parts(k);
         let preload = k[self.f_preload];
-        let solenoid = (p.valve.force_n(self.set_point(k)) - preload).max(0.0);
-        x0[self.lift] = ((p.valve.force_n(k[self.pressure]) - preload - solenoid) / p.spring.stiffness_n_per_m).max(0.0);
+        let solenoid = (p.valve.force_n(self.set_point(k)) - preload).max(R::from(0.0));
+        x0[self.lift] = ((p.valve.force_n(k[self.pressure]) - preload - solenoid) / p.spring.stiffness_n_per_m).max(R::from(0.0));
         // The run starts 1 degree after cylinder 1's start of injection, its shot latched (its
         // needle not lifted yet at any speed up to 5000 rpm with the default opening delay).
-        x0[self.crank] = START_PAST_INJECTION_RAD - k[self.advance];
+        x0[self.crank] = R::from(START_PAST_INJECTION_RAD) - k[self.advance];
         let w = k[self.speed_in];
-        x0[self.since_start] = if w > 0.0 { START_PAST_INJECTION_RAD / w } else { NO_SHOT_TIMER_S };
+        x0[self.since_start] = if w > 0.0 { R::from(START_PAST_INJECTION_RAD) / w } else { R::from(NO_SHOT_TIMER_S) };
         x0[self.shot_energizing] = self.energizing_time(k);
     }
 
@@ -591,7 +591,7 @@ impl Model for CommonRailInjection {
     fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
         let op = self.operate(k);
         der[self.crank] = k[self.speed_in];
-        der[self.since_start] = 1.0;
+        der[self.since_start] = R::from(1.0);
         der[self.pressure] = op.pressure_rate;
         if k[self.valve_mode] == PoppetValve::OPEN {
             der[self.lift] = k[self.speed];
@@ -629,13 +629,13 @@ impl Model for CommonRailInjection {
         out[self.y_last_shot] = k[self.last_shot];
         let slot = k[self.slot];
         let order = FIRING_ORDERS[(self.cylinder_count(k) - 4) as usize];
-        out[self.y_cylinder] = if (0..order.len() as i32).contains(&slot) { f64::from(order[slot as usize]) } else { 0.0 };
+        out[self.y_cylinder] = if (0..order.len() as i32).contains(&slot) { R::from(f64::from(order[slot as usize])) } else { R::from(0.0) };
         out[self.y_torque] = op.pump_torque * k[self.pump_ratio];
         out[self.y_bulk] = op.bulk_modulus;
         out[self.displacement] = p.pump.displacement_m3_per_rev();
         out[self.hole_area] = p.nozzle.hole_area_m2();
         out[self.valve_seat_area] = p.valve.seat_area_m2();
-        out[self.firing_interval] = self.firing_interval_rad(k);
+        out[self.firing_interval] = R::from(self.firing_interval_rad(k));
     }
 }
 

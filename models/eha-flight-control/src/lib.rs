@@ -109,72 +109,72 @@ struct Powers {
 }
 
 /// The actuator's parts at the current parameter values.
-struct Parts {
-    drive: Chopper,
-    motor: DcMachine,
-    rotor: Inertia,
-    pump: FixedDisplacementPump,
-    cylinder: DoubleActingCylinder,
-    horn: Lever,
-    surface: Inertia,
+struct Parts<R = f64> {
+    drive: Chopper<R>,
+    motor: DcMachine<R>,
+    rotor: Inertia<R>,
+    pump: FixedDisplacementPump<R>,
+    cylinder: DoubleActingCylinder<R>,
+    horn: Lever<R>,
+    surface: Inertia<R>,
     /// The aerodynamic hinge moment K_h theta, a spring of the air (no damping).
-    hinge: TorsionSpring,
+    hinge: TorsionSpring<R>,
     /// One chamber at mid stroke.
-    chamber: FluidVolume,
-    leakage: LaminarLeakage,
-    law: PiController,
+    chamber: FluidVolume<R>,
+    leakage: LaminarLeakage<R>,
+    law: PiController<R>,
 }
 
-impl Parts {
+impl<R: Real> Parts<R> {
     /// With rigid oil (level 1) the pump, the cylinder and the horn are one ideal reducer: the motor
     /// turns N = A r / D radians per radian of the surface (Table 3.5's three transformers in a row).
-    fn reducer(&self) -> Reducer {
-        let surface_per_motor = self.horn.angular_speed_rad_per_s(self.cylinder.speed_m_per_s(self.pump.flow_m3_per_s(1.0)));
-        Reducer { ratio: 1.0 / surface_per_motor, efficiency: 1.0 }
+    fn reducer(&self) -> Reducer<R> {
+        let surface_per_motor = self.horn.angular_speed_rad_per_s(self.cylinder.speed_m_per_s(self.pump.flow_m3_per_s(R::from(1.0))));
+        Reducer { ratio: R::from(1.0) / surface_per_motor, efficiency: R::from(1.0) }
     }
 
     /// The pump and the cylinder with rigid oil seen from the rod: a rack and pinion of radius D / A
     /// (v = (D/A) w, T = (D/A) F).
-    fn pump_and_cylinder(&self) -> RackAndPinion {
-        RackAndPinion { pinion_radius_m: self.cylinder.speed_m_per_s(self.pump.flow_m3_per_s(1.0)) }
+    fn pump_and_cylinder(&self) -> RackAndPinion<R> {
+        RackAndPinion { pinion_radius_m: self.cylinder.speed_m_per_s(self.pump.flow_m3_per_s(R::from(1.0))) }
     }
 
     /// The two chambers seen from the pressure difference across the piston: C = V / (2 B).
-    fn oil(&self) -> FluidVolume {
+    fn oil(&self) -> FluidVolume<R> {
         self.chamber.in_series(&self.chamber)
     }
 }
 
 /// Everything the equations give at one instant.
 #[derive(Default)]
-struct Operating {
-    command: f64,
-    voltage: f64,
-    duty: f64,
-    current_rate: f64,
-    motor_torque: f64,
-    motor_acceleration: f64,
-    pressure: f64,
-    pressure_rate: f64,
-    surface_speed: f64,
-    surface_acceleration: f64,
+struct Operating<R = f64> {
+    command: R,
+    voltage: R,
+    duty: R,
+    current_rate: R,
+    motor_torque: R,
+    motor_acceleration: R,
+    pressure: R,
+    pressure_rate: R,
+    surface_speed: R,
+    surface_acceleration: R,
     /// The moment the actuator holds, K_h theta - M_external.
-    hinge_moment: f64,
-    pump_flow: f64,
-    leakage_flow: f64,
-    p_bus: f64,
-    p_resistance: f64,
-    p_inductance: f64,
-    p_rotor: f64,
-    p_oil: f64,
-    p_leakage: f64,
-    p_surface: f64,
-    p_hinge: f64,
-    p_external: f64,
+    hinge_moment: R,
+    pump_flow: R,
+    leakage_flow: R,
+    p_bus: R,
+    p_resistance: R,
+    p_inductance: R,
+    p_rotor: R,
+    p_oil: R,
+    p_leakage: R,
+    p_surface: R,
+    p_hinge: R,
+    p_external: R,
 }
 
 impl EhaFlightControl {
-    fn parts(&self, k: &Knowns) -> Parts {
+    fn parts<R: Real>(&self, k: &Knowns<R>) -> Parts<R> {
         Parts {
             drive: Chopper { supply_voltage_v: k[self.u_bus] },
             motor: DcMachine { resistance_ohm: k[self.r_motor], inductance_h: k[self.l_motor], constant_v_s_per_rad: k[self.k_motor] },
@@ -183,33 +183,33 @@ impl EhaFlightControl {
             cylinder: DoubleActingCylinder { piston_area_m2: k[self.a_piston] },
             horn: Lever { arm_m: k[self.r_horn] },
             surface: Inertia { inertia_kg_m2: k[self.j_surface] },
-            hinge: TorsionSpring { stiffness_n_m_per_rad: k[self.k_hinge], damping_n_m_s_per_rad: 0.0 },
+            hinge: TorsionSpring { stiffness_n_m_per_rad: k[self.k_hinge], damping_n_m_s_per_rad: R::from(0.0) },
             chamber: FluidVolume { volume_m3: k[self.v_chamber], bulk_modulus_pa: k[self.b_oil] },
             leakage: LaminarLeakage { resistance_pa_s_per_m3: k[self.r_leakage] },
             // A proportional law (no integral action), clamped at the bus voltage.
-            law: PiController { proportional_gain: k[self.kp], integral_gain: 0.0, output_limit: k[self.u_bus], tracking_time_s: 1.0 },
+            law: PiController { proportional_gain: k[self.kp], integral_gain: R::from(0.0), output_limit: k[self.u_bus], tracking_time_s: R::from(1.0) },
         }
     }
 
-    fn compressible(&self, k: &Knowns) -> bool {
+    fn compressible<R: Real>(&self, k: &Knowns<R>) -> bool {
         k[self.level] == 2
     }
 
     /// The built-in command: a step of `step_angle` at `step_time`, back to 0 at `return_time`.
-    fn profile(&self, k: &Knowns) -> [Ramp; 2] {
+    fn profile<R: Real>(&self, k: &Knowns<R>) -> [Ramp<R>; 2] {
         [
-            Ramp { start_s: k[self.step_time], duration_s: 0.0, height: k[self.step_angle] },
-            Ramp { start_s: k[self.return_time], duration_s: 0.0, height: -k[self.step_angle] },
+            Ramp { start_s: k[self.step_time], duration_s: R::from(0.0), height: k[self.step_angle] },
+            Ramp { start_s: k[self.return_time], duration_s: R::from(0.0), height: -k[self.step_angle] },
         ]
     }
 
     /// The surface angle command, rad: the profile plus the input.
-    fn command(&self, k: &Knowns) -> f64 {
-        self.profile(k).iter().map(|r| r.value(k.time())).sum::<f64>() + k[self.angle_in]
+    fn command<R: Real>(&self, k: &Knowns<R>) -> R {
+        self.profile(k).iter().map(|r| r.value(R::from(k.time()))).sum::<R>() + k[self.angle_in]
     }
 
     /// The surface's speed, rad/s (level 1: the motor's through the reducer).
-    fn surface_speed(&self, p: &Parts, k: &Knowns) -> f64 {
+    fn surface_speed<R: Real>(&self, p: &Parts<R>, k: &Knowns<R>) -> R {
         if self.compressible(k) {
             k[self.w_surface]
         } else {
@@ -217,17 +217,17 @@ impl EhaFlightControl {
         }
     }
 
-    fn operate(&self, k: &Knowns) -> Operating {
+    fn operate<R: Real>(&self, k: &Knowns<R>) -> Operating<R> {
         let p = self.parts(k);
         let (i, w_m, theta) = (k[self.current], k[self.w_motor], k[self.angle]);
         let command = self.command(k);
         let error = command - theta;
-        let voltage = p.law.command(error, 0.0);
+        let voltage = p.law.command(error, R::from(0.0));
         let duty = voltage / p.drive.supply_voltage_v;
         let current_rate = p.motor.current_rate_a_per_s(voltage, i, w_m);
         let motor_torque = p.motor.torque_n_m(i);
         let external = k[self.moment_in];
-        let hinge_moment = p.hinge.torque_n_m(theta, 0.0) - external;
+        let hinge_moment = p.hinge.torque_n_m(theta, R::from(0.0)) - external;
         let mut op = Operating { command, voltage, duty, current_rate, motor_torque, hinge_moment, ..Operating::default() };
         if self.compressible(k) {
             let (dp, w_s) = (k[self.pressure], k[self.w_surface]);
@@ -444,7 +444,7 @@ impl Model for EhaFlightControl {
         out[self.m_surface_rod] = m_surface;
         out[self.m_rotor_rod] = p.pump_and_cylinder().referred_mass_kg(p.rotor.inertia_kg_m2);
         let k_oil = p.cylinder.hydraulic_stiffness_n_per_m(&p.chamber, &p.chamber);
-        out[self.f_hydraulic] = TranslationalSpring { stiffness_n_per_m: k_oil, damping_n_s_per_m: 0.0 }.natural_frequency_hz(m_surface, f64::INFINITY);
+        out[self.f_hydraulic] = TranslationalSpring { stiffness_n_per_m: k_oil, damping_n_s_per_m: R::from(0.0) }.natural_frequency_hz(m_surface, R::from(f64::INFINITY));
     }
 }
 

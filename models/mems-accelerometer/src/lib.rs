@@ -139,130 +139,134 @@ struct Powers {
 }
 
 /// The accelerometer's parts at the current parameter values.
-struct Parts {
-    mass: Mass,
-    inertial: FrameAcceleration,
-    beams: TranslationalSpring,
-    squeeze: SqueezeFilm,
-    slide: SlideFilm,
+struct Parts<R = f64> {
+    mass: Mass<R>,
+    inertial: FrameAcceleration<R>,
+    beams: TranslationalSpring<R>,
+    squeeze: SqueezeFilm<R>,
+    slide: SlideFilm<R>,
     /// Electrode 1: x closes its gap.
-    plate_1: ParallelPlate,
+    plate_1: ParallelPlate<R>,
     /// Electrode 2: -x closes its gap (the same plate seen from the other side).
-    plate_2: ParallelPlate,
-    filter: SecondOrderFilter,
-    carrier_v: f64,
-    feedback_f: f64,
-    gain: f64,
-    stop_m: f64,
+    plate_2: ParallelPlate<R>,
+    filter: SecondOrderFilter<R>,
+    carrier_v: R,
+    feedback_f: R,
+    gain: R,
+    stop_m: R,
 }
 
-impl Parts {
+impl<R: Real> Parts<R> {
     /// The electrostatic stiffness of the carrier alone at rest, both sides: 2 eps A V_c^2 / g^3.
-    fn carrier_softening(&self) -> f64 {
+    fn carrier_softening(&self) -> R {
         let w = self.carrier_v * self.carrier_v;
-        self.plate_1.softening_n_per_m(w, 0.0) + self.plate_2.softening_n_per_m(w, 0.0)
+        self.plate_1.softening_n_per_m(w, R::from(0.0)) + self.plate_2.softening_n_per_m(w, R::from(0.0))
     }
 
     /// The suspension less the carrier's softening: the stiffness the mass rests on, N/m.
-    fn effective_stiffness(&self) -> f64 {
+    fn effective_stiffness(&self) -> R {
         self.beams.stiffness_n_per_m - self.carrier_softening()
     }
 
     /// dV_demodulated / dx at rest: V_c d(C_2 - C_1)/dx / C_f = -2 V_c (eps A / g^2) / C_f, V/m.
-    fn read_out_gain_v_per_m(&self) -> f64 {
-        -(self.plate_1.capacitance_gradient_f_per_m(0.0) + self.plate_2.capacitance_gradient_f_per_m(0.0)) * self.carrier_v / self.feedback_f
+    fn read_out_gain_v_per_m(&self) -> R {
+        -(self.plate_1.capacitance_gradient_f_per_m(R::from(0.0)) + self.plate_2.capacitance_gradient_f_per_m(R::from(0.0))) * self.carrier_v / self.feedback_f
     }
 
     /// The static output per unit of frame acceleration, V/(m/s2): x = -m a / k_eff read out and
     /// amplified (the filter has unit static gain).
-    fn sensitivity_v_per_m_s2(&self) -> f64 {
+    fn sensitivity_v_per_m_s2(&self) -> R {
         -self.gain * self.read_out_gain_v_per_m() * self.mass.mass_kg / self.effective_stiffness()
     }
 
     /// |H(j w) / H(0)| of the linearised sensor at rest (bias off): the mass on k_eff and
     /// b_squeeze(0) + b_slide, then the filter.
-    fn relative_gain(&self, w: f64) -> f64 {
+    fn relative_gain(&self, w: R) -> R {
         use components::complex::Complex;
         let k = self.effective_stiffness();
-        let b = self.squeeze.damping_n_s_per_m(0.0) + self.slide.damper().damping_n_s_per_m;
-        let mechanics = Complex::new(k, 0.0) / Complex::new(k - self.mass.mass_kg * w * w, b * w);
-        let wn = 2.0 * PI * self.filter.natural_frequency_hz;
-        let filter = Complex::new(wn * wn, 0.0) / Complex::new(wn * wn - w * w, 2.0 * self.filter.damping * wn * w);
+        let b = self.squeeze.damping_n_s_per_m(R::from(0.0)) + self.slide.damper().damping_n_s_per_m;
+        let mechanics = Complex::new(k, R::from(0.0)) / Complex::new(k - self.mass.mass_kg * w * w, b * w);
+        let wn = self.filter.natural_frequency_hz * (2.0 * PI);
+        let filter = Complex::new(wn * wn, R::from(0.0)) / Complex::new(wn * wn - w * w, self.filter.damping * 2.0 * wn * w);
         (mechanics * filter).abs()
     }
 
     /// The bandwidth, Hz: the lowest frequency at which the output's amplitude per unit of
     /// acceleration leaves the +-3 dB band around its static value ([1/sqrt 2, sqrt 2] of it: a
-    /// roll-off or a resonance peak, whichever comes first). A scan in steps of 2 %, then bisection.
-    fn bandwidth_hz(&self) -> f64 {
-        let outside = |w: f64| {
-            let g = self.relative_gain(w);
-            !(FRAC_1_SQRT_2..=std::f64::consts::SQRT_2).contains(&g)
-        };
-        let w0 = (self.effective_stiffness() / self.mass.mass_kg).sqrt();
-        let wn = 2.0 * PI * self.filter.natural_frequency_hz;
+    /// roll-off or a resonance peak, whichever comes first). A scan in steps of 2 %, then bisection
+    /// on values; the derivatives are those of the crossing, |H| = the band's edge
+    /// ([`components::roots::with_derivatives`]).
+    fn bandwidth_hz(&self) -> R {
+        let gain = |w: f64| self.relative_gain(R::from(w)).value();
+        let outside = |w: f64| !(FRAC_1_SQRT_2..=std::f64::consts::SQRT_2).contains(&gain(w));
+        let w0 = (self.effective_stiffness() / self.mass.mass_kg).sqrt().value();
+        let wn = (self.filter.natural_frequency_hz * (2.0 * PI)).value();
         let (mut lo, top) = (1e-3 * w0.min(wn), 1e3 * w0.max(wn));
         while lo < top {
             let hi = lo * 1.02;
             if outside(hi) {
-                return components::roots::bisect(lo, hi, 60, |w| !outside(w)) / (2.0 * PI);
+                let root = components::roots::bisect(lo, hi, 60, |w| !outside(w));
+                // The edge crossed: the roll-off's 1/sqrt 2, or the peak's sqrt 2.
+                let edge = |g: f64| if g < 1.0 { FRAC_1_SQRT_2 } else { std::f64::consts::SQRT_2 };
+                let w = components::roots::with_derivatives(root, hi - lo, |w: R| self.relative_gain(w) - edge(gain(root)));
+                return w / (2.0 * PI);
             }
             lo = hi;
         }
-        f64::NAN
+        R::from(f64::NAN)
     }
 }
 
 /// Everything the equations give at one instant.
 #[derive(Default)]
-struct Operating {
-    acceleration: f64,
-    bias_v: f64,
-    c_1: f64,
-    c_2: f64,
-    electrostatic: f64,
+struct Operating<R = f64> {
+    acceleration: R,
+    bias_v: R,
+    c_1: R,
+    c_2: R,
+    electrostatic: R,
     /// The force on the mass at rest (no damping): what presses it on a stop, N.
-    static_force: f64,
-    dv: f64,
-    dx: f64,
-    demodulated: f64,
-    p_frame: f64,
-    p_mass: f64,
-    p_beams: f64,
-    p_squeeze: f64,
-    p_slide: f64,
-    p_capacitors: f64,
-    p_carrier: f64,
-    p_bias: f64,
+    static_force: R,
+    dv: R,
+    dx: R,
+    demodulated: R,
+    p_frame: R,
+    p_mass: R,
+    p_beams: R,
+    p_squeeze: R,
+    p_slide: R,
+    p_capacitors: R,
+    p_carrier: R,
+    p_bias: R,
 }
 
 impl MemsAccelerometer {
-    fn parts(&self, k: &Knowns) -> Parts {
+    fn parts<R: Real>(&self, k: &Knowns<R>) -> Parts<R> {
         let t = k[self.t_structure];
         let m = k[self.m_proof];
-        let lambda = mems::mean_free_path_m(mems::AIR_VISCOSITY_PA_S, k[self.p_gas], k[self.t_gas], mems::AIR_MOLAR_MASS_KG_PER_MOL);
-        let plate = ParallelPlate { permittivity_f_per_m: mems::VACUUM_PERMITTIVITY_F_PER_M, area_m2: k[self.a_electrode], gap_m: k[self.gap] };
+        let lambda = mems::mean_free_path_m(R::from(mems::AIR_VISCOSITY_PA_S), k[self.p_gas], k[self.t_gas], R::from(mems::AIR_MOLAR_MASS_KG_PER_MOL));
+        let plate = ParallelPlate { permittivity_f_per_m: R::from(mems::VACUUM_PERMITTIVITY_F_PER_M), area_m2: k[self.a_electrode], gap_m: k[self.gap] };
         Parts {
             mass: Mass { mass_kg: m },
             inertial: FrameAcceleration { mass_kg: m },
             beams: TranslationalSpring {
                 stiffness_n_per_m: mems::folded_flexure_stiffness_n_per_m(k[self.e_beam], t, k[self.w_beam], k[self.l_beam]),
-                damping_n_s_per_m: 0.0,
+                damping_n_s_per_m: R::from(0.0),
             },
             squeeze: SqueezeFilm {
-                effective_viscosity_pa_s: mems::squeeze_film_effective_viscosity_pa_s(mems::AIR_VISCOSITY_PA_S, lambda / k[self.gap]),
+                effective_viscosity_pa_s: mems::squeeze_film_effective_viscosity_pa_s(R::from(mems::AIR_VISCOSITY_PA_S), lambda / k[self.gap]),
                 area_m2: k[self.a_electrode],
                 width_m: t,
                 gap_m: k[self.gap],
             },
             slide: SlideFilm {
-                effective_viscosity_pa_s: mems::slide_film_effective_viscosity_pa_s(mems::AIR_VISCOSITY_PA_S, lambda / k[self.d_substrate]),
+                effective_viscosity_pa_s: mems::slide_film_effective_viscosity_pa_s(R::from(mems::AIR_VISCOSITY_PA_S), lambda / k[self.d_substrate]),
                 area_m2: k[self.a_plate],
                 gap_m: k[self.d_substrate],
             },
             plate_1: plate,
             plate_2: plate,
-            filter: SecondOrderFilter { natural_frequency_hz: k[self.f_filter], damping: FRAC_1_SQRT_2 },
+            filter: SecondOrderFilter { natural_frequency_hz: k[self.f_filter], damping: R::from(FRAC_1_SQRT_2) },
             carrier_v: k[self.v_carrier],
             feedback_f: k[self.c_feedback],
             gain: k[self.g_out],
@@ -271,32 +275,32 @@ impl MemsAccelerometer {
     }
 
     /// The built-in acceleration profile, m/s2: 1 (a step at t_start), 2 (a sine from t_start).
-    fn profile_value(&self, k: &Knowns) -> f64 {
+    fn profile_value<R: Real>(&self, k: &Knowns<R>) -> R {
         let t = k.time();
         match k[self.profile] {
-            1 => Ramp { start_s: k[self.t_start], duration_s: 0.0, height: k[self.a_step] }.value(t),
-            2 if t >= k[self.t_start] => k[self.a_sine] * (2.0 * PI * k[self.f_sine] * (t - k[self.t_start])).sin(),
-            _ => 0.0,
+            1 => Ramp { start_s: k[self.t_start], duration_s: R::from(0.0), height: k[self.a_step] }.value(R::from(t)),
+            2 if t >= k[self.t_start].value() => k[self.a_sine] * (k[self.f_sine] * (2.0 * PI) * (R::from(t) - k[self.t_start])).sin(),
+            _ => R::from(0.0),
         }
     }
 
     /// The bias on electrode 1, ramped from 0 over t_bias_ramp (a step at t = 0 when it is 0).
-    fn bias_ramp(&self, k: &Knowns) -> SpeedRamp {
+    fn bias_ramp<R: Real>(&self, k: &Knowns<R>) -> SpeedRamp<R> {
         SpeedRamp { target: k[self.v_bias], duration_s: k[self.t_bias_ramp] }
     }
 
-    fn operate(&self, p: &Parts, k: &Knowns) -> Operating {
+    fn operate<R: Real>(&self, p: &Parts<R>, k: &Knowns<R>) -> Operating<R> {
         let (x, v) = (k[self.x], k[self.v]);
         let t = k.time();
         let acceleration = self.profile_value(k) + k[self.a_in];
         let ramp = self.bias_ramp(k);
-        let (bias_v, bias_rate) = (ramp.value(t), ramp.slope(t));
+        let (bias_v, bias_rate) = (ramp.value(R::from(t)), ramp.slope(R::from(t)));
         let carrier_ms = p.carrier_v * p.carrier_v;
         let (ms_1, ms_2) = (carrier_ms + bias_v * bias_v, carrier_ms);
-        let ms_rate_1 = 2.0 * bias_v * bias_rate;
+        let ms_rate_1 = bias_v * 2.0 * bias_rate;
         let (c_1, c_2) = (p.plate_1.capacitance_f(x), p.plate_2.capacitance_f(-x));
         let electrostatic = p.plate_1.force_n(ms_1, x) - p.plate_2.force_n(ms_2, -x);
-        let static_force = p.inertial.force_n(acceleration) - p.beams.force_n(x, 0.0) + electrostatic;
+        let static_force = p.inertial.force_n(acceleration) - p.beams.force_n(x, R::from(0.0)) + electrostatic;
         let mut op = Operating { acceleration, bias_v, c_1, c_2, electrostatic, static_force, ..Operating::default() };
         op.demodulated = p.carrier_v * (c_2 - c_1) / p.feedback_f;
         if k[self.contact] == 0 {
@@ -313,8 +317,8 @@ impl MemsAccelerometer {
         op.p_beams = p.beams.spring_power_w(x, dx);
         op.p_squeeze = p.squeeze.power_w(x, dx);
         op.p_slide = p.slide.damper().power_w(dx);
-        op.p_capacitors = p.plate_1.storage_power_w(ms_1, ms_rate_1, x, dx) + p.plate_2.storage_power_w(ms_2, 0.0, -x, -dx);
-        op.p_carrier = p.plate_1.source_power_w(carrier_ms, 0.0, x, dx) + p.plate_2.source_power_w(carrier_ms, 0.0, -x, -dx);
+        op.p_capacitors = p.plate_1.storage_power_w(ms_1, ms_rate_1, x, dx) + p.plate_2.storage_power_w(ms_2, R::from(0.0), -x, -dx);
+        op.p_carrier = p.plate_1.source_power_w(carrier_ms, R::from(0.0), x, dx) + p.plate_2.source_power_w(carrier_ms, R::from(0.0), -x, -dx);
         op.p_bias = p.plate_1.source_power_w(bias_v * bias_v, ms_rate_1, x, dx);
         op
     }
@@ -498,7 +502,7 @@ impl Model for MemsAccelerometer {
         der[self.v] = op.dv;
         // The filter u'' = wn^2 (V_demodulated - u) - 2 zeta wn u' with the scaled rate w = u' / wn as
         // its second state (both states in volts).
-        let wn = 2.0 * PI * p.filter.natural_frequency_hz;
+        let wn = p.filter.natural_frequency_hz * (2.0 * PI);
         let rate = wn * k[self.w_filter];
         der[self.u_filter] = rate;
         der[self.w_filter] = p.filter.acceleration(op.demodulated, k[self.u_filter], rate) / wn;
@@ -527,33 +531,33 @@ impl Model for MemsAccelerometer {
         let v_out = p.gain * k[self.u_filter];
         out[self.y_v_out] = v_out;
         // Without a carrier (or a gain) the read-out measures nothing: it reports 0.
-        out[self.y_measured] = if sensitivity == 0.0 { 0.0 } else { v_out / sensitivity };
+        out[self.y_measured] = if sensitivity == 0.0 { R::from(0.0) } else { v_out / sensitivity };
         out[self.y_force] = op.electrostatic;
-        out[self.y_stop_force] = if k[self.contact] == 0 { 0.0 } else { -op.static_force };
-        out[self.y_at_stop] = f64::from(k[self.contact]);
+        out[self.y_stop_force] = if k[self.contact] == 0 { R::from(0.0) } else { -op.static_force };
+        out[self.y_at_stop] = R::from(f64::from(k[self.contact]));
         out[self.y_bias] = op.bias_v;
         let (m, stiffness) = (p.mass.mass_kg, p.beams.stiffness_n_per_m);
         let k_eff = p.effective_stiffness();
         out[self.k_suspension] = stiffness;
-        out[self.f_natural] = p.beams.natural_frequency_hz(m, f64::INFINITY);
+        out[self.f_natural] = p.beams.natural_frequency_hz(m, R::from(f64::INFINITY));
         out[self.k_electrostatic] = p.carrier_softening();
         out[self.f_natural_carrier] = (k_eff / m).sqrt() / (2.0 * PI);
-        let (b_sq, b_sl) = (p.squeeze.damping_n_s_per_m(0.0), p.slide.damper().damping_n_s_per_m);
+        let (b_sq, b_sl) = (p.squeeze.damping_n_s_per_m(R::from(0.0)), p.slide.damper().damping_n_s_per_m);
         out[self.b_squeeze] = b_sq;
         out[self.b_slide] = b_sl;
         out[self.q_factor] = (m * k_eff).sqrt() / (b_sq + b_sl);
-        out[self.c_0] = p.plate_1.capacitance_f(0.0);
+        out[self.c_0] = p.plate_1.capacitance_f(R::from(0.0));
         out[self.v_pull_in] = p.plate_1.pull_in_voltage_v(stiffness);
         out[self.v_pull_in_symmetric] = p.plate_1.symmetric_pull_in_voltage_v(stiffness);
         let x_g = m * G_N / k_eff;
         out[self.x_per_g] = x_g;
-        out[self.delta_c_per_g] = (p.plate_1.capacitance_gradient_f_per_m(0.0) + p.plate_2.capacitance_gradient_f_per_m(0.0)) * x_g;
+        out[self.delta_c_per_g] = (p.plate_1.capacitance_gradient_f_per_m(R::from(0.0)) + p.plate_2.capacitance_gradient_f_per_m(R::from(0.0))) * x_g;
         out[self.v_out_per_g] = sensitivity * G_N;
         out[self.bandwidth] = p.bandwidth_hz();
-        let lambda = mems::mean_free_path_m(mems::AIR_VISCOSITY_PA_S, k[self.p_gas], k[self.t_gas], mems::AIR_MOLAR_MASS_KG_PER_MOL);
+        let lambda = mems::mean_free_path_m(R::from(mems::AIR_VISCOSITY_PA_S), k[self.p_gas], k[self.t_gas], R::from(mems::AIR_MOLAR_MASS_KG_PER_MOL));
         out[self.knudsen] = lambda / k[self.gap];
         let t = k[self.t_structure];
-        out[self.squeeze_number] = 12.0 * p.squeeze.effective_viscosity_pa_s * (k_eff / m).sqrt() * t * t / (k[self.p_gas] * k[self.gap] * k[self.gap]);
+        out[self.squeeze_number] = p.squeeze.effective_viscosity_pa_s * 12.0 * (k_eff / m).sqrt() * t * t / (k[self.p_gas] * k[self.gap] * k[self.gap]);
     }
 }
 
