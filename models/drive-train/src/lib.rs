@@ -6,6 +6,8 @@
 //! (book file Chap3_CoolingTowerFan.mo, each description names its component); the reasons and
 //! the earlier chosen set are in `models/motor-fan/src/lib.rs` and `docs/motor-fan-spec.md`.
 
+use components::complex::Complex;
+use components::roots::with_derivatives_of;
 use components::{FanLoad, InductionMachine, Inertia, Interpolation, PiController, Reducer, SecondOrderFilter, SpeedRamp, TorqueSpeedTable, TorsionSpring};
 use fmu_runtime::prelude::*;
 
@@ -18,9 +20,9 @@ pub const TABLE_POINTS: usize = 10;
 /// Where the motor's torque comes from at levels a-c (level d always solves the circuit's dq
 /// model).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MotorCurve {
+pub enum MotorCurve<R = f64> {
     /// The torque-speed table.
-    Table(TorqueSpeedTable<TABLE_POINTS>),
+    Table(TorqueSpeedTable<TABLE_POINTS, R>),
     /// The equivalent circuit's steady state.
     Circuit,
 }
@@ -83,7 +85,7 @@ impl MotorParameters {
         }
     }
 
-    pub fn machine(&self, k: &Knowns) -> InductionMachine {
+    pub fn machine<R: Real>(&self, k: &Knowns<R>) -> InductionMachine<R> {
         InductionMachine {
             stator_resistance_ohm: k[self.r_s],
             rotor_resistance_ohm: k[self.r_r],
@@ -99,7 +101,7 @@ impl MotorParameters {
 
     /// The steady-state torque curve below level d. `akima_by_default`: how interpolation 0
     /// reads the table (the book's choice for the level).
-    pub fn curve(&self, k: &Knowns, akima_by_default: bool) -> MotorCurve {
+    pub fn curve<R: Real>(&self, k: &Knowns<R>, akima_by_default: bool) -> MotorCurve<R> {
         if k[self.motor_model] == 2 {
             return MotorCurve::Circuit;
         }
@@ -127,22 +129,22 @@ impl MotorParameters {
         Ok(())
     }
 
-    pub fn rotor(&self, k: &Knowns) -> Inertia {
+    pub fn rotor<R: Real>(&self, k: &Knowns<R>) -> Inertia<R> {
         Inertia { inertia_kg_m2: k[self.j_motor] }
     }
 }
 
 /// The motor's steady state at one speed, whichever curve gives its torque.
-pub struct MotorSteadyState {
-    pub torque_n_m: f64,
+pub struct MotorSteadyState<R = f64> {
+    pub torque_n_m: R,
     /// From the equivalent circuit at this speed (a table gives no current).
-    pub current_rms_a: f64,
-    pub electrical_power_w: f64,
+    pub current_rms_a: R,
+    pub electrical_power_w: R,
 }
 
-impl MotorCurve {
+impl<R: Real> MotorCurve<R> {
     /// The torque at `speed`, and the circuit's current and power there.
-    pub fn steady_state(&self, machine: &InductionMachine, speed_rad_per_s: f64) -> MotorSteadyState {
+    pub fn steady_state(&self, machine: &InductionMachine<R>, speed_rad_per_s: R) -> MotorSteadyState<R> {
         let st = machine.steady_state(speed_rad_per_s);
         let torque_n_m = match self {
             MotorCurve::Table(t) => t.torque_n_m(speed_rad_per_s),
@@ -152,7 +154,7 @@ impl MotorCurve {
     }
 
     /// The torque alone (the derivatives need no current).
-    pub fn torque_n_m(&self, machine: &InductionMachine, speed_rad_per_s: f64) -> f64 {
+    pub fn torque_n_m(&self, machine: &InductionMachine<R>, speed_rad_per_s: R) -> R {
         match self {
             MotorCurve::Table(t) => t.torque_n_m(speed_rad_per_s),
             MotorCurve::Circuit => machine.steady_state(speed_rad_per_s).torque_n_m,
@@ -160,7 +162,7 @@ impl MotorCurve {
     }
 
     /// The stable operating speed under a load torque curve (None: the motor stalls).
-    pub fn stable_speed_rad_per_s(&self, machine: &InductionMachine, load_torque_n_m: impl Fn(f64) -> f64) -> Option<f64> {
+    pub fn stable_speed_rad_per_s(&self, machine: &InductionMachine<R>, load_torque_n_m: impl Fn(R) -> R) -> Option<R> {
         match self {
             MotorCurve::Table(t) => t.stable_speed_rad_per_s(load_torque_n_m),
             MotorCurve::Circuit => machine.stable_speed_rad_per_s(load_torque_n_m),
@@ -183,7 +185,7 @@ impl ShaftParameters {
         }
     }
 
-    pub fn spring(&self, k: &Knowns) -> TorsionSpring {
+    pub fn spring<R: Real>(&self, k: &Knowns<R>) -> TorsionSpring<R> {
         TorsionSpring { stiffness_n_m_per_rad: k[self.k_shaft], damping_n_m_s_per_rad: k[self.d_shaft] }
     }
 }
@@ -221,20 +223,20 @@ impl FanParameters {
         }
     }
 
-    pub fn inertia(&self, k: &Knowns) -> Inertia {
+    pub fn inertia<R: Real>(&self, k: &Knowns<R>) -> Inertia<R> {
         Inertia { inertia_kg_m2: k[self.j_fan] }
     }
 
-    pub fn reducer(&self, k: &Knowns) -> Reducer {
+    pub fn reducer<R: Real>(&self, k: &Knowns<R>) -> Reducer<R> {
         Reducer { ratio: k[self.gear_ratio], efficiency: k[self.gear_efficiency] }
     }
 
-    pub fn load(&self, k: &Knowns) -> FanLoad {
+    pub fn load<R: Real>(&self, k: &Knowns<R>) -> FanLoad<R> {
         FanLoad::from_nominal(k[self.t_fan_nominal], k[self.speed_fan_nominal])
     }
 
     /// The fan inertia seen from the high-speed axis, J_fan / N^2 (eq. 3.6).
-    pub fn referred_inertia_kg_m2(&self, k: &Knowns) -> f64 {
+    pub fn referred_inertia_kg_m2<R: Real>(&self, k: &Knowns<R>) -> R {
         self.reducer(k).referred_inertia_kg_m2(k[self.j_fan])
     }
 }
@@ -314,18 +316,18 @@ impl ControllerParameters {
         }
     }
 
-    pub fn ramp(&self, k: &Knowns) -> SpeedRamp {
+    pub fn ramp<R: Real>(&self, k: &Knowns<R>) -> SpeedRamp<R> {
         SpeedRamp { target: k[self.speed_setpoint], duration_s: k[self.ramp_time] }
     }
 
-    pub fn controller(&self, k: &Knowns) -> PiController {
+    pub fn controller<R: Real>(&self, k: &Knowns<R>) -> PiController<R> {
         let limit = k[self.t_limit];
-        let output_limit = if limit > 0.0 { limit } else { f64::INFINITY };
+        let output_limit = if limit > 0.0 { limit } else { R::from(f64::INFINITY) };
         PiController { proportional_gain: k[self.kp], integral_gain: k[self.ki], output_limit, tracking_time_s: k[self.t_tracking] }
     }
 
     /// The set-point filter, if one is chosen.
-    pub fn filter(&self, k: &Knowns) -> Option<SecondOrderFilter> {
+    pub fn filter<R: Real>(&self, k: &Knowns<R>) -> Option<SecondOrderFilter<R>> {
         let natural_frequency_hz = match k[self.setpoint_filter] {
             0 => return None,
             1 => k[self.filter_below],
@@ -334,7 +336,7 @@ impl ControllerParameters {
         Some(SecondOrderFilter { natural_frequency_hz, damping: k[self.filter_damping] })
     }
 
-    pub fn ramp_time(&self, k: &Knowns) -> f64 {
+    pub fn ramp_time<R: Real>(&self, k: &Knowns<R>) -> R {
         k[self.ramp_time]
     }
 }
@@ -361,25 +363,25 @@ impl TorqueActuatorParameters {
     }
 
     /// The lag, or None when the command acts at once.
-    pub fn lag(&self, k: &Knowns) -> Option<SecondOrderFilter> {
+    pub fn lag<R: Real>(&self, k: &Knowns<R>) -> Option<SecondOrderFilter<R>> {
         (k[self.angular_frequency] > 0.0).then(|| SecondOrderFilter::from_angular_frequency(k[self.angular_frequency], k[self.damping]))
     }
 }
 
 /// The speed set point and its filter states: w_ref, dw_ref/dt and (filter on) d2w_ref/dt2.
-pub struct SetPoint {
-    pub reference: f64,
-    pub rate: f64,
-    pub acceleration: f64,
+pub struct SetPoint<R = f64> {
+    pub reference: R,
+    pub rate: R,
+    pub acceleration: R,
 }
 
-impl SetPoint {
+impl<R: Real> SetPoint<R> {
     /// From the ramp, through the filter whose states are (`filtered`, `filtered_rate`).
-    pub fn at(params: &ControllerParameters, k: &Knowns, filtered: f64, filtered_rate: f64) -> SetPoint {
+    pub fn at(params: &ControllerParameters, k: &Knowns<R>, filtered: R, filtered_rate: R) -> SetPoint<R> {
         let ramp = params.ramp(k);
-        let t = k.time();
+        let t = R::from(k.time());
         match params.filter(k) {
-            None => SetPoint { reference: ramp.value(t), rate: ramp.slope(t), acceleration: 0.0 },
+            None => SetPoint { reference: ramp.value(t), rate: ramp.slope(t), acceleration: R::from(0.0) },
             Some(f) => SetPoint { reference: filtered, rate: filtered_rate, acceleration: f.acceleration(ramp.value(t), filtered, filtered_rate) },
         }
     }
@@ -388,9 +390,40 @@ impl SetPoint {
 /// A converter-fed motor: the power it draws is the mechanical power (an ideal converter and
 /// machine) and its current that of the machine at rated flux (constant V/f) giving that
 /// torque: the 50 Hz circuit at the slip of that torque. Returns (current rms, power).
-pub fn converter_fed(machine: &InductionMachine, torque_n_m: f64, speed_rad_per_s: f64) -> (f64, f64) {
+///
+/// At zero torque exactly (a converter-fed start from rest) the current's derivatives come from
+/// [`current_at_zero_torque`]: the slip found there by bisection, about 1e-19, is 0 to the
+/// circuit's resolution, and neither the slip's derivative (found through |T|, whose derivative
+/// a `Dual` takes as 0 at 0) nor the circuit's derivative at such a slip (R_r / s about 1e18:
+/// the forward derivative cancels to nothing) survives. The value is the circuit's, bit for bit.
+pub fn converter_fed<R: Real>(machine: &InductionMachine<R>, torque_n_m: R, speed_rad_per_s: R) -> (R, R) {
     let slip = machine.stable_slip_for_torque(torque_n_m);
-    (machine.steady_state_at_slip(slip).stator_current_rms_a, torque_n_m * speed_rad_per_s)
+    let mut current_rms_a = machine.steady_state_at_slip(slip).stator_current_rms_a;
+    if torque_n_m == 0.0 {
+        current_rms_a = with_derivatives_of(current_rms_a.value(), current_at_zero_torque(machine, torque_n_m));
+    }
+    (current_rms_a, torque_n_m * speed_rad_per_s)
+}
+
+/// The stator current rms at a torque of value 0, carrying its derivatives: those of the
+/// machine's parameters at slip 0, and the torque's through the slip, ds = dT / (dT/ds at s = 0).
+/// The circuit is written in s Z_r = R_r + j s X_r, smooth through s = 0:
+/// I_s = V s (Z_m + Z_r) / (Z_s s (Z_m + Z_r) + Z_m s Z_r); near s = 0 the torque is
+/// T = 3 |V Z_m / (Z_s + Z_m)|^2 s / (R_r W_s) (Thevenin's source seen by the rotor branch, whose
+/// impedance R_r / s is then all that limits the rotor current).
+pub fn current_at_zero_torque<R: Real>(machine: &InductionMachine<R>, torque_n_m: R) -> R {
+    let zero = R::from(0.0);
+    let w = machine.supply_angular_frequency();
+    let v = Complex::new(machine.phase_voltage_rms_v(), zero);
+    let z_s = Complex::new(machine.stator_resistance_ohm, w * machine.stator_leakage_h);
+    let z_m = Complex::new(zero, w * machine.magnetizing_h);
+    // dT/ds at s = 0, a plain number: it multiplies dT, whose value here is 0.
+    let thevenin = (v * z_m / (z_s + z_m)).norm_sqr().value();
+    let torque_per_slip = thevenin * 3.0 / (machine.rotor_resistance_ohm.value() * machine.synchronous_speed_rad_per_s().value());
+    let slip = torque_n_m / torque_per_slip;
+    let s_z_r = Complex::new(machine.rotor_resistance_ohm, slip * w * machine.rotor_leakage_h);
+    let s_z_mr = Complex::new(slip, zero) * z_m + s_z_r;
+    (v * s_z_mr / (z_s * s_z_mr + z_m * s_z_r)).abs()
 }
 
 /// What every motor-fan subsystem FMU says about itself: explicit Runge-Kutta, 1 ms default

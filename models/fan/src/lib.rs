@@ -40,7 +40,7 @@ derivatives are supported for extrapolating masters.</p>
 
 impl Fan {
     /// J_fan dw/dt = T_low - k w |w|, T_low through the reducer in the current power direction.
-    fn acceleration(&self, k: &Knowns) -> f64 {
+    fn acceleration<R: Real>(&self, k: &Knowns<R>) -> R {
         let reducer = self.fan.reducer(k);
         let low_torque = reducer.low_side_torque_flowing_n_m(k[self.shaft_torque], k[self.power_flow] >= 0);
         self.fan.inertia(k).acceleration_rad_per_s2(low_torque - self.fan.load(k).torque_n_m(k[self.w]))

@@ -40,30 +40,31 @@ struct Elements {
 }
 
 /// The motor at one instant.
-struct Operating {
-    torque: f64,
-    current_rms: f64,
-    power: f64,
-    flux_rates: Fluxes,
+struct Operating<R = f64> {
+    torque: R,
+    current_rms: R,
+    power: R,
+    flux_rates: Fluxes<R>,
     /// The dq model's winding losses and magnetic power (0 without electrical dynamics).
-    winding_loss: f64,
-    magnetic_power: f64,
+    winding_loss: R,
+    magnetic_power: R,
     /// Whether the dq model, fed by the supply, makes the torque (else the curve or the converter).
     from_supply: bool,
 }
 
 impl InductionMotor {
-    fn fluxes(&self, k: &Knowns) -> Fluxes {
+    fn fluxes<R: Real>(&self, k: &Knowns<R>) -> Fluxes<R> {
         Fluxes { stator_d: k[self.psi_sd], stator_q: k[self.psi_sq], rotor_d: k[self.psi_rd], rotor_q: k[self.psi_rq] }
     }
 
-    fn operate(&self, k: &Knowns, with_electrical: bool) -> Operating {
+    fn operate<R: Real>(&self, k: &Knowns<R>, with_electrical: bool) -> Operating<R> {
+        let zero = R::from(0.0);
         let machine = self.motor.machine(k);
         let w = k[self.w];
         if k[self.drive] == 2 {
             let torque = k[self.torque_command];
-            let (current_rms, power) = if with_electrical { converter_fed(&machine, torque, w) } else { (0.0, 0.0) };
-            return Operating { torque, current_rms, power, flux_rates: Fluxes::default(), winding_loss: 0.0, magnetic_power: 0.0, from_supply: false };
+            let (current_rms, power) = if with_electrical { converter_fed(&machine, torque, w) } else { (zero, zero) };
+            return Operating { torque, current_rms, power, flux_rates: Fluxes::default(), winding_loss: zero, magnetic_power: zero, from_supply: false };
         }
         if k[self.electrical_dynamics] {
             let dq = machine.dq_response(self.fluxes(k), w);
@@ -80,10 +81,10 @@ impl InductionMotor {
         // Interpolation 0 reads the table by Akima's spline, as the book's level-c file.
         let curve = self.motor.curve(k, true);
         if !with_electrical {
-            return Operating { torque: curve.torque_n_m(&machine, w), current_rms: 0.0, power: 0.0, flux_rates: Fluxes::default(), winding_loss: 0.0, magnetic_power: 0.0, from_supply: false };
+            return Operating { torque: curve.torque_n_m(&machine, w), current_rms: zero, power: zero, flux_rates: Fluxes::default(), winding_loss: zero, magnetic_power: zero, from_supply: false };
         }
         let st = curve.steady_state(&machine, w);
-        Operating { torque: st.torque_n_m, current_rms: st.current_rms_a, power: st.electrical_power_w, flux_rates: Fluxes::default(), winding_loss: 0.0, magnetic_power: 0.0, from_supply: false }
+        Operating { torque: st.torque_n_m, current_rms: st.current_rms_a, power: st.electrical_power_w, flux_rates: Fluxes::default(), winding_loss: zero, magnetic_power: zero, from_supply: false }
     }
 }
 
@@ -178,11 +179,11 @@ impl Model for InductionMotor {
         der[self.psi_rd] = op.flux_rates.rotor_d;
         der[self.psi_rq] = op.flux_rates.rotor_q;
         let e = &self.elements;
-        let supplied = if op.from_supply { op.power } else { 0.0 };
+        let supplied = if op.from_supply { op.power } else { R::from(0.0) };
         der.power(e.supply, supplied);
         der.power(e.winding_inductance, op.magnetic_power);
         der.power(e.winding_resistance, op.winding_loss);
-        der.power(e.motor_torque, if op.from_supply { 0.0 } else { op.torque * w });
+        der.power(e.motor_torque, if op.from_supply { R::from(0.0) } else { op.torque * w });
         der.power(e.inertia, rotor.power_w(acceleration, w));
         der.power(e.port, -k[self.load_torque] * w);
     }

@@ -146,49 +146,49 @@ impl Elements {
 }
 
 /// The drive train's elements at the current parameter values.
-struct Train {
-    motor: InductionMachine,
-    curve: MotorCurve,
-    actuator: Option<SecondOrderFilter>,
-    motor_inertia: Inertia,
-    shaft: TorsionSpring,
-    reducer: Reducer,
-    fan_inertia: Inertia,
-    fan: FanLoad,
-    controller: PiController,
+struct Train<R = f64> {
+    motor: InductionMachine<R>,
+    curve: MotorCurve<R>,
+    actuator: Option<SecondOrderFilter<R>>,
+    motor_inertia: Inertia<R>,
+    shaft: TorsionSpring<R>,
+    reducer: Reducer<R>,
+    fan_inertia: Inertia<R>,
+    fan: FanLoad<R>,
+    controller: PiController<R>,
 }
 
 /// Everything the equations give at one instant; derivatives and outputs both read it.
 #[derive(Default)]
-struct Operating {
-    motor_speed: f64,
-    fan_speed: f64,
-    shaft_torque: f64,
-    motor_torque: f64,
-    current_rms: f64,
-    electrical_power: f64,
-    reference: f64,
-    motor_acceleration: f64,
-    fan_acceleration: f64,
-    twist_rate: f64,
-    integral_rate: f64,
-    actuator_rate: f64,
-    actuator_acceleration: f64,
-    flux_rates: Fluxes,
-    power_motor_inertia: f64,
-    power_shaft_spring: f64,
-    power_fan_inertia: f64,
-    power_supply: f64,
-    power_winding_inductance: f64,
-    power_winding_resistance: f64,
-    power_motor_torque: f64,
-    power_shaft_damping: f64,
-    power_reducer_loss: f64,
-    power_fan_load: f64,
+struct Operating<R = f64> {
+    motor_speed: R,
+    fan_speed: R,
+    shaft_torque: R,
+    motor_torque: R,
+    current_rms: R,
+    electrical_power: R,
+    reference: R,
+    motor_acceleration: R,
+    fan_acceleration: R,
+    twist_rate: R,
+    integral_rate: R,
+    actuator_rate: R,
+    actuator_acceleration: R,
+    flux_rates: Fluxes<R>,
+    power_motor_inertia: R,
+    power_shaft_spring: R,
+    power_fan_inertia: R,
+    power_supply: R,
+    power_winding_inductance: R,
+    power_winding_resistance: R,
+    power_motor_torque: R,
+    power_shaft_damping: R,
+    power_reducer_loss: R,
+    power_fan_load: R,
 }
 
 impl MotorFan {
-    fn level(&self, k: &Knowns) -> Level {
+    fn level<R: Real>(&self, k: &Knowns<R>) -> Level {
         match k[self.level] {
             1 => Level::QuasiStatic,
             2 => Level::Inertias,
@@ -197,7 +197,7 @@ impl MotorFan {
         }
     }
 
-    fn start(&self, k: &Knowns) -> Start {
+    fn start<R: Real>(&self, k: &Knowns<R>) -> Start {
         match k[self.start_mode] {
             1 => Start::DirectOnLine,
             2 => Start::PiControl,
@@ -205,7 +205,7 @@ impl MotorFan {
         }
     }
 
-    fn train(&self, k: &Knowns) -> Train {
+    fn train<R: Real>(&self, k: &Knowns<R>) -> Train<R> {
         Train {
             motor: self.motor.machine(k),
             // Interpolation 0 reads the table as the book's file for the level: Akima at level c
@@ -222,22 +222,22 @@ impl MotorFan {
     }
 
     /// The PI's speed error, w_ref - w_m, while the PI drives (controlled start, level b or above).
-    fn pi_error(&self, k: &Knowns) -> Option<f64> {
+    fn pi_error<R: Real>(&self, k: &Knowns<R>) -> Option<R> {
         (self.start(k) == Start::PiControl && self.level(k) != Level::QuasiStatic).then(|| self.reference(k).reference - k[self.w_motor])
     }
 
     /// The speed set point after the optional filter.
-    fn reference(&self, k: &Knowns) -> SetPoint {
+    fn reference<R: Real>(&self, k: &Knowns<R>) -> SetPoint<R> {
         SetPoint::at(&self.control, k, k[self.reference], k[self.reference_rate])
     }
 
-    fn fluxes(&self, k: &Knowns) -> Fluxes {
+    fn fluxes<R: Real>(&self, k: &Knowns<R>) -> Fluxes<R> {
         Fluxes { stator_d: k[self.psi_sd], stator_q: k[self.psi_sq], rotor_d: k[self.psi_rd], rotor_q: k[self.psi_rq] }
     }
 
     /// The whole drive at the knowns `k`. The converter-fed current (a root search on the
     /// torque curve) only when `with_electrical`: the derivatives do not need it.
-    fn operate(&self, k: &Knowns, with_electrical: bool) -> Operating {
+    fn operate<R: Real>(&self, k: &Knowns<R>, with_electrical: bool) -> Operating<R> {
         let train = self.train(k);
         let (level, start) = (self.level(k), self.start(k));
         let set_point = self.reference(k);
@@ -254,7 +254,7 @@ impl MotorFan {
         let fan_torque = train.fan.torque_n_m(w_fan);
 
         // Motor torque, unless the motor speed is imposed (then it follows from the rest).
-        let mut motor_torque = 0.0;
+        let mut motor_torque = R::from(0.0);
         match start {
             Start::DirectOnLine if level == Level::Electrical => {
                 let dq = train.motor.dq_response(self.fluxes(k), w_m);
@@ -341,7 +341,7 @@ impl MotorFan {
 
     /// Each element's power at this instant (the runtime integrates the activities and sums the
     /// balance: supply + motor torque = stored + dissipated).
-    fn report_powers(&self, op: &Operating, der: &mut Derivatives) {
+    fn report_powers<R: Real>(&self, op: &Operating<R>, der: &mut Derivatives<R>) {
         let e = &self.elements;
         der.power(e.supply, op.power_supply);
         der.power(e.winding_inductance, op.power_winding_inductance);
@@ -356,10 +356,10 @@ impl MotorFan {
     }
 
     /// Level a: no storage; the speed is the torque balance (direct start) or the set point.
-    fn quasi_static(&self, train: &Train, start: Start, op: &mut Operating) {
-        let load_on_motor = |w: f64| train.reducer.high_side_torque_n_m(train.fan.torque_n_m(train.reducer.low_speed(w)), w);
+    fn quasi_static<R: Real>(&self, train: &Train<R>, start: Start, op: &mut Operating<R>) {
+        let load_on_motor = |w: R| train.reducer.high_side_torque_n_m(train.fan.torque_n_m(train.reducer.low_speed(w)), w);
         let w_m = match start {
-            Start::DirectOnLine => train.curve.stable_speed_rad_per_s(&train.motor, load_on_motor).unwrap_or(0.0),
+            Start::DirectOnLine => train.curve.stable_speed_rad_per_s(&train.motor, load_on_motor).unwrap_or(R::from(0.0)),
             _ => op.reference,
         };
         op.motor_speed = w_m;
@@ -393,14 +393,14 @@ impl MotorFan {
         Some((op.shaft_torque * speed, torque_rate * speed + op.shaft_torque * n * op.fan_acceleration))
     }
 
-    fn converter_fed(&self, train: &Train, torque: f64, speed: f64, op: &mut Operating) {
+    fn converter_fed<R: Real>(&self, train: &Train<R>, torque: R, speed: R, op: &mut Operating<R>) {
         (op.current_rms, op.electrical_power) = converter_fed(&train.motor, torque, speed);
     }
 }
 
 /// Rigid coupling: J_m a + T_shaft = T_m and T_shaft delivers J_fan a / N + T_fan through the
 /// reducer, whose efficiency depends on the direction of the power.
-fn rigid_acceleration(train: &Train, motor_torque: f64, w_m: f64, fan_torque: f64) -> f64 {
+fn rigid_acceleration<R: Real>(train: &Train<R>, motor_torque: R, w_m: R, fan_torque: R) -> R {
     let (n, eta, j_m, j_fan) = (train.reducer.ratio, train.reducer.efficiency, train.motor_inertia.inertia_kg_m2, train.fan_inertia.inertia_kg_m2);
     let forward = (motor_torque - fan_torque / (n * eta)) / (j_m + j_fan / (n * n * eta));
     if (j_fan * forward / n + fan_torque) * w_m >= 0.0 {

@@ -61,16 +61,16 @@ struct Powers {
 }
 
 /// The circuit's elements at the current parameter values.
-struct Elements {
-    source: SineVoltage,
-    line_resistance: Resistor,
-    line_inductance: Inductor,
-    load_capacitance: Capacitor,
-    load_resistance: Resistor,
+struct Elements<R = f64> {
+    source: SineVoltage<R>,
+    line_resistance: Resistor<R>,
+    line_inductance: Inductor<R>,
+    load_capacitance: Capacitor<R>,
+    load_resistance: Resistor<R>,
 }
 
 impl RlcCircuit {
-    fn elements(&self, k: &Knowns) -> Elements {
+    fn elements<R: Real>(&self, k: &Knowns<R>) -> Elements<R> {
         Elements {
             source: SineVoltage { amplitude_v: k[self.amplitude], frequency_hz: k[self.frequency] },
             line_resistance: Resistor { resistance_ohm: k[self.r_series] },
@@ -81,8 +81,8 @@ impl RlcCircuit {
     }
 
     /// Source voltage: the sine plus the input, V.
-    fn voltage(&self, e: &Elements, k: &Knowns) -> f64 {
-        e.source.voltage_v(k.time()) + k[self.u_in]
+    fn voltage<R: Real>(&self, e: &Elements<R>, k: &Knowns<R>) -> R {
+        e.source.voltage_v(R::from(k.time())) + k[self.u_in]
     }
 }
 

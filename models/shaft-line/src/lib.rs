@@ -106,21 +106,21 @@ pub struct ShaftLine {
 }
 
 /// The elements at the current parameter values.
-struct Line {
-    machine: DcMachine,
-    motor: Inertia,
-    bearings_n_m_s_per_rad: f64,
-    shaft: TorsionSpring,
-    propeller: Inertia,
-    load: PropellerLoad,
+struct Line<R = f64> {
+    machine: DcMachine<R>,
+    motor: Inertia<R>,
+    bearings_n_m_s_per_rad: R,
+    shaft: TorsionSpring<R>,
+    propeller: Inertia<R>,
+    load: PropellerLoad<R>,
     /// `propeller_law` = 2: T = a w^2 in both directions of rotation.
     load_unidirectional: bool,
-    seal: CoulombFriction,
+    seal: CoulombFriction<R>,
 }
 
-impl Line {
+impl<R: Real> Line<R> {
     /// The propeller's hydrodynamic torque, N m (against a forward rotation).
-    fn propeller_torque_n_m(&self, w: f64) -> f64 {
+    fn propeller_torque_n_m(&self, w: R) -> R {
         if self.load_unidirectional {
             self.load.unidirectional_torque_n_m(w)
         } else {
@@ -131,26 +131,26 @@ impl Line {
 
 /// Everything the equations give at one instant.
 #[derive(Default)]
-struct Operating {
-    voltage: f64,
-    current_rate: f64,
-    motor_torque: f64,
-    motor_speed: f64,
-    motor_acceleration: f64,
-    twist_rate: f64,
-    shaft_torque: f64,
-    propeller_speed: f64,
-    propeller_acceleration: f64,
-    propeller_torque: f64,
-    seal_torque: f64,
+struct Operating<R = f64> {
+    voltage: R,
+    current_rate: R,
+    motor_torque: R,
+    motor_speed: R,
+    motor_acceleration: R,
+    twist_rate: R,
+    shaft_torque: R,
+    propeller_speed: R,
+    propeller_acceleration: R,
+    propeller_torque: R,
+    seal_torque: R,
     /// The power of each element of `ELEMENTS`, W (what it stores per second or dissipates).
-    powers: [f64; 9],
+    powers: [R; 9],
     /// The supply's power U i, W.
-    supply_power: f64,
+    supply_power: R,
 }
 
 impl ShaftLine {
-    fn structure(&self, k: &Knowns) -> Structure {
+    fn structure<R: Real>(&self, k: &Knowns<R>) -> Structure {
         match k[self.model_reduction] {
             1 => Structure::BookReduced,
             2 => Structure::ActivityReduced,
@@ -158,16 +158,16 @@ impl ShaftLine {
         }
     }
 
-    fn machine_constant(&self, k: &Knowns) -> f64 {
+    fn machine_constant<R: Real>(&self, k: &Knowns<R>) -> R {
         if k[self.emf_constant] == 1 {
             return k[self.k_emf];
         }
         // check() refuses an impossible rating at initialization; NaN only while probing.
-        DcMachine::constant_from_rated_point(k[self.u_rated], k[self.t_rated], k[self.speed_rated], k[self.r_armature]).unwrap_or(f64::NAN)
+        DcMachine::constant_from_rated_point(k[self.u_rated], k[self.t_rated], k[self.speed_rated], k[self.r_armature]).unwrap_or(R::from(f64::NAN))
     }
 
-    fn line(&self, k: &Knowns) -> Line {
-        let half_shaft = 0.5 * k[self.j_shaft];
+    fn line<R: Real>(&self, k: &Knowns<R>) -> Line<R> {
+        let half_shaft = k[self.j_shaft] * 0.5;
         Line {
             machine: DcMachine {
                 resistance_ohm: k[self.r_armature],
@@ -185,24 +185,24 @@ impl ShaftLine {
     }
 
     /// The supply: 0 -> U_max over ramp_time, U_max for plateau_time, then short-circuited.
-    fn voltage(&self, k: &Knowns) -> f64 {
+    fn voltage<R: Real>(&self, k: &Knowns<R>) -> R {
         if k[self.voltage_from_input] {
             return k[self.u_in];
         }
-        if k.time() >= self.short_circuit_time(k) {
-            0.0
+        if k.time() >= self.short_circuit_time(k).value() {
+            R::from(0.0)
         } else {
-            SpeedRamp { target: k[self.u_max], duration_s: k[self.ramp_time] }.value(k.time())
+            SpeedRamp { target: k[self.u_max], duration_s: k[self.ramp_time] }.value(R::from(k.time()))
         }
     }
 
-    fn short_circuit_time(&self, k: &Knowns) -> f64 {
+    fn short_circuit_time<R: Real>(&self, k: &Knowns<R>) -> R {
         k[self.ramp_time] + k[self.plateau_time]
     }
 
     /// The torque the seal must take to hold the propeller still: every other torque on the body
     /// it rubs on (the propeller end; in the book's reduced model the whole rigid line).
-    fn seal_required(&self, line: &Line, k: &Knowns) -> f64 {
+    fn seal_required<R: Real>(&self, line: &Line<R>, k: &Knowns<R>) -> R {
         let w_p = k[self.w_propeller];
         let drive = match self.structure(k) {
             Structure::BookReduced => line.machine.torque_n_m(k[self.current]) - line.bearings_n_m_s_per_rad * w_p,
@@ -212,19 +212,19 @@ impl ShaftLine {
     }
 
     /// The seal's torque and the propeller end's acceleration under the `drive` torque.
-    fn propeller_end(&self, line: &Line, k: &Knowns, drive: f64, op: &mut Operating) {
+    fn propeller_end<R: Real>(&self, line: &Line<R>, k: &Knowns<R>, drive: R, op: &mut Operating<R>) {
         let mode = k[self.seal_mode];
         if mode == 0 {
             // Stuck: the propeller stands still, the seal takes what holding it requires.
             op.seal_torque = -self.seal_required(line, k);
-            op.propeller_acceleration = 0.0;
+            op.propeller_acceleration = R::from(0.0);
         } else {
             op.seal_torque = line.seal.slip_torque_n_m(mode);
             op.propeller_acceleration = line.propeller.acceleration_rad_per_s2(drive - op.propeller_torque + op.seal_torque);
         }
     }
 
-    fn operate(&self, k: &Knowns) -> Operating {
+    fn operate<R: Real>(&self, k: &Knowns<R>) -> Operating<R> {
         let line = self.line(k);
         let m = &line.machine;
         let voltage = self.voltage(k);

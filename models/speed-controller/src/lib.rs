@@ -32,7 +32,7 @@ is MotorFan's (<code>actuator_angular_frequency</code>), not this controller's.<
 "#;
 
 impl SpeedController {
-    fn set_point(&self, k: &Knowns) -> SetPoint {
+    fn set_point<R: Real>(&self, k: &Knowns<R>) -> SetPoint<R> {
         SetPoint::at(&self.control, k, k[self.filtered], k[self.filtered_rate])
     }
 }

@@ -163,24 +163,24 @@ impl Elements {
 }
 
 /// The thermal network at the current parameter values.
-struct Network {
-    winding: ThermalNode,
-    iron: ThermalNode,
-    winding_to_iron: ThermalConductance,
-    iron_to_ambient: ThermalConductance,
+struct Network<R = f64> {
+    winding: ThermalNode<R>,
+    iron: ThermalNode<R>,
+    winding_to_iron: ThermalConductance<R>,
+    iron_to_ambient: ThermalConductance<R>,
     /// The one-node model's path to the air: the two in series, or the book file's own R.
-    body_to_ambient: ThermalConductance,
+    body_to_ambient: ThermalConductance<R>,
 }
 
-impl Network {
+impl<R: Real> Network<R> {
     /// The motor as one body: capacities add.
-    fn one_body(&self) -> (ThermalNode, ThermalConductance) {
+    fn one_body(&self) -> (ThermalNode<R>, ThermalConductance<R>) {
         (self.winding.merged_with(&self.iron), self.body_to_ambient)
     }
 }
 
 impl TractionMotorThermal {
-    fn network(&self, k: &Knowns) -> Network {
+    fn network<R: Real>(&self, k: &Knowns<R>) -> Network<R> {
         let winding = ThermalNode::of_mass(k[self.mass_winding], k[self.specific_heat_winding]);
         let iron = ThermalNode::of_mass(k[self.mass_iron], k[self.specific_heat_iron]);
         if self.book_data(k) {
@@ -202,42 +202,42 @@ impl TractionMotorThermal {
 
     /// Conductances from the book file's resistances (`thermal_data` = 1), else from the
     /// nominal rises.
-    fn book_data(&self, k: &Knowns) -> bool {
+    fn book_data<R: Real>(&self, k: &Knowns<R>) -> bool {
         k[self.thermal_data] == 1
     }
 
     /// A built-in step (`heat_source` 1 or 4) is on at the current time.
-    fn step_on(&self, k: &Knowns) -> bool {
-        k.time() >= k[self.t_step]
+    fn step_on<R: Real>(&self, k: &Knowns<R>) -> bool {
+        k.time() >= k[self.t_step].value()
     }
 
-    fn latched(&self, k: &Knowns) -> bool {
+    fn latched<R: Real>(&self, k: &Knowns<R>) -> bool {
         k[self.limit_latch] == 1
     }
 
-    fn two_nodes(&self, k: &Knowns) -> bool {
+    fn two_nodes<R: Real>(&self, k: &Knowns<R>) -> bool {
         k[self.nodes] == 2
     }
 
     /// The motor torque, N m (question 1 for the built-in step: C = P / w_max).
-    fn torque_n_m(&self, k: &Knowns) -> f64 {
+    fn torque_n_m<R: Real>(&self, k: &Knowns<R>) -> R {
         match HeatSource::of(k[self.heat_source]) {
             HeatSource::PowerStep if self.step_on(k) => k[self.mechanical_power_step] / k[self.speed_max],
-            HeatSource::PowerStep => 0.0,
+            HeatSource::PowerStep => R::from(0.0),
             HeatSource::TorqueInput => k[self.torque_in],
-            HeatSource::LossInput => 0.0,
+            HeatSource::LossInput => R::from(0.0),
             // The torque whose losses the step gives: C_nom sqrt(P_J / P_J,nom).
             HeatSource::LossStep if self.step_on(k) => k[self.torque_nominal] * (k[self.joule_losses_step] / k[self.joule_losses_nominal]).sqrt(),
-            HeatSource::LossStep => 0.0,
+            HeatSource::LossStep => R::from(0.0),
         }
     }
 
     /// The Joule losses, W: P_J,nom (C / C_nom)^2 (question 2), or the loss input.
-    fn joule_losses_w(&self, k: &Knowns) -> f64 {
+    fn joule_losses_w<R: Real>(&self, k: &Knowns<R>) -> R {
         match HeatSource::of(k[self.heat_source]) {
             HeatSource::LossInput => k[self.joule_losses_in],
             HeatSource::LossStep if self.step_on(k) => k[self.joule_losses_step],
-            HeatSource::LossStep => 0.0,
+            HeatSource::LossStep => R::from(0.0),
             _ => k[self.joule_losses_nominal] * (self.torque_n_m(k) / k[self.torque_nominal]).powi(2),
         }
     }
@@ -384,16 +384,16 @@ impl Model for TractionMotorThermal {
             let to_air = n.iron_to_ambient.heat_flow_w(iron, ambient);
             der[self.t_winding] = n.winding.temperature_rate_k_per_s(losses - through_insulation);
             der[self.t_iron] = n.iron.temperature_rate_k_per_s(through_insulation - to_air);
-            flows = (through_insulation, to_air, 0.0);
+            flows = (through_insulation, to_air, R::from(0.0));
         } else {
             let (body, to_ambient) = n.one_body();
             let to_air = to_ambient.heat_flow_w(winding, ambient);
             let rate = body.temperature_rate_k_per_s(losses - to_air);
             der[self.t_winding] = rate;
             der[self.t_iron] = rate;
-            flows = (0.0, 0.0, to_air);
+            flows = (R::from(0.0), R::from(0.0), to_air);
         }
-        der[self.time_below_limit] = if self.latched(k) { 0.0 } else { 1.0 };
+        der[self.time_below_limit] = R::from(if self.latched(k) { 0.0 } else { 1.0 });
         // Each element's heat flow (one node: the body's C_total dT/dt is its two capacities'
         // C dT/dt at the one temperature).
         let e = &self.elements;
@@ -416,7 +416,7 @@ impl Model for TractionMotorThermal {
         out[self.y_t_iron] = k[self.t_iron];
         out[self.y_margin] = limit - winding;
         out[self.y_time_to_limit] = k[self.time_below_limit];
-        out[self.y_limit_reached] = if self.latched(k) { 1.0 } else { 0.0 };
+        out[self.y_limit_reached] = R::from(if self.latched(k) { 1.0 } else { 0.0 });
         out[self.y_torque] = self.torque_n_m(k);
         out[self.y_losses] = self.joule_losses_w(k);
         out[self.c_winding] = n.winding.heat_capacity_j_per_k;
