@@ -53,6 +53,11 @@
 //! ("at kinks"). If not even the one-sided differences settle (a jump, or variation on a scale
 //! below h/10^4), there is no reference: such entries are counted and the first ones printed
 //! ("without reference"), not judged.
+//! The all-knowns product J v has a reference only where the finite differences are linear in
+//! the seed: its own central difference must equal sum_j v_j times column j's (to REL_TOL of its
+//! scale, the tolerance a derivative is judged by). Where not, f has no derivative at the point (a product of two quantities both
+//! exactly 0, whose branch the second-order term decides), and the entry is counted and shown
+//! ("not linear in the seed"), not judged.
 //!
 //! FMI 3.0 only: `fmi3GetAdjointDerivative` (sensitivity = seed^T J) at every operating point
 //! after initialization, in both instances, with all unknowns seeded (seed_i = c_i / S_i, the
@@ -378,6 +383,10 @@ struct Tally {
     /// Entries without a reference (see `column`), and a few of them.
     unresolved: usize,
     unresolved_examples: Vec<String>,
+    /// All-knowns entries whose finite difference is not the seed's combination of the columns'
+    /// (no derivative linear in the seed at the point: no reference), and a few of them.
+    not_linear: usize,
+    not_linear_examples: Vec<String>,
     worst: f64,
     worst_at: String,
     failures: Vec<String>,
@@ -386,7 +395,16 @@ struct Tally {
 impl Tally {
     /// Compares one Jacobian column (all unknowns) with its finite differences.
     #[allow(clippy::too_many_arguments)]
-    fn column(&mut self, at: &str, known: &str, unknowns: &[Var], scale_u: &[f64], scale_k: f64, dd: &[f64], fd: &Fd) {
+    ///
+    /// `linear`: for the all-knowns product, sum_j v_j times column j's finite difference. Where
+    /// the product's own finite difference differs from it by more than the tolerance (REL_TOL of
+    /// the entry's scale: the finite differences disagree with themselves by more than a
+    /// derivative is allowed to differ from them), f has no derivative linear in the seed at the point (e.g. a product of two
+    /// quantities both exactly 0 whose branch its second-order term decides: MotorFan's rigid
+    /// reducer at rest, with both its torque and its speed moving): there is no Jacobian for any
+    /// directional derivative to match, so the entry has no reference (counted, shown).
+    #[allow(clippy::too_many_arguments)]
+    fn column(&mut self, at: &str, known: &str, unknowns: &[Var], scale_u: &[f64], scale_k: f64, dd: &[f64], fd: &Fd, linear: Option<&[f64]>) {
         for (i, u) in unknowns.iter().enumerate() {
             let natural = scale_u[i] / scale_k;
             self.entries += 1;
@@ -395,6 +413,19 @@ impl Tally {
                 self.failures.push(format!("{where_}: directional derivative {} is not finite", dd[i]));
                 self.note(f64::INFINITY, &where_);
                 continue;
+            }
+            if let Some(linear) = linear {
+                let product = fd.central(0, i);
+                if (product - linear[i]).abs() > REL_TOL * product.abs().max(linear[i].abs()).max(natural) {
+                    self.not_linear += 1;
+                    if self.not_linear_examples.len() < 3 {
+                        self.not_linear_examples.push(format!(
+                            "{where_}: dd {:.6e}; the product's finite difference {product:.6e}, the columns' combination {:.6e}",
+                            dd[i], linear[i]
+                        ));
+                    }
+                    continue;
+                }
             }
             // The largest step at which the difference has converged (see `Fd`): the forward and
             // backward differences agree, and the central difference equals the next smaller
@@ -492,6 +523,9 @@ impl Tally {
         if self.unresolved > 0 {
             notes.push(format!("{} without reference", self.unresolved));
         }
+        if self.not_linear > 0 {
+            notes.push(format!("{} not linear in the seed", self.not_linear));
+        }
         let mut text = format!(
             "  {what:<58} {:>5} entries, worst {:.2e} ({}){}{}\n",
             self.entries,
@@ -502,6 +536,9 @@ impl Tally {
         );
         for e in &self.unresolved_examples {
             text += &format!("      no reference: {e}\n");
+        }
+        for e in &self.not_linear_examples {
+            text += &format!("      not linear in the seed: {e}\n");
         }
         text
     }
@@ -720,6 +757,9 @@ fn check_after_initialization(model: &Model, config: &Config) -> (String, Vec<St
             .collect();
         let mut seeds: Vec<f64> = Vec::new();
         let mut natural_sum = vec![0.0; unknowns.len()];
+        // sum_j v_j (column j's central difference, in the ME instance): what the all-knowns
+        // product's difference is where f has a derivative at the point.
+        let mut combination = vec![0.0; unknowns.len()];
         for (j, (known, x0, is_state)) in knowns.iter().enumerate() {
             let (s_k, h) = known_scale(known, *x0);
             let dd_me = dd_column(&mut me, &u_vr, &[known.vr], &[1.0], &known.name);
@@ -733,18 +773,21 @@ fn check_after_initialization(model: &Model, config: &Config) -> (String, Vec<St
             } else {
                 fd_by(&mut me, &u_vr, *x0, h, |inst, v| ok(inst.set_real(&[known.vr], &[v]), "fmi2SetReal(input)", inst))
             };
-            t_me.column(&at, &known.name, &unknowns, &scale, s_k, &dd_me, &fd);
+            t_me.column(&at, &known.name, &unknowns, &scale, s_k, &dd_me, &fd, None);
             if *is_state {
                 // CS cannot set its states: the reference is the ME instance at the same point.
                 let at_cs = format!("{at} [states: ME finite differences]");
-                t_cs.column(&at_cs, &known.name, &unknowns, &scale, s_k, &dd_cs, &fd);
+                t_cs.column(&at_cs, &known.name, &unknowns, &scale, s_k, &dd_cs, &fd, None);
             } else {
                 let fd = fd_by(&mut cs, &u_vr, *x0, h, |inst, v| ok(inst.set_real(&[known.vr], &[v]), "fmi2SetReal(input)", inst));
-                t_cs.column(&at, &known.name, &unknowns, &scale, s_k, &dd_cs, &fd);
+                t_cs.column(&at, &known.name, &unknowns, &scale, s_k, &dd_cs, &fd, None);
             }
             // A seed of the known's own scale, varied so that no two columns can cancel.
             let seed = s_k * (1.0 + 0.37 * j as f64) * if j % 2 == 0 { 1.0 } else { -1.0 };
             seeds.push(seed);
+            for (i, c) in combination.iter_mut().enumerate() {
+                *c += seed * fd.central(0, i);
+            }
             for i in 0..unknowns.len() {
                 natural_sum[i] += seed.abs() * scale[i] / s_k;
             }
@@ -764,9 +807,9 @@ fn check_after_initialization(model: &Model, config: &Config) -> (String, Vec<St
                 }
             });
             let dd = dd_column(&mut me, &u_vr, &known_vr, &seeds, "all knowns");
-            t_me.column(&at, "all knowns at once", &unknowns, &natural_sum, 1.0, &dd, &fd);
+            t_me.column(&at, "all knowns at once", &unknowns, &natural_sum, 1.0, &dd, &fd, Some(&combination));
             let dd = dd_column(&mut cs, &u_vr, &known_vr, &seeds, "all knowns");
-            t_cs.column(&format!("{at} [ME finite differences]"), "all knowns at once", &unknowns, &natural_sum, 1.0, &dd, &fd);
+            t_cs.column(&format!("{at} [ME finite differences]"), "all knowns at once", &unknowns, &natural_sum, 1.0, &dd, &fd, Some(&combination));
             if model.version == FmiVersion::Fmi3 {
                 let scale_k: Vec<f64> = knowns.iter().map(|(k, x0, _)| known_scale(k, *x0).0).collect();
                 for (inst, tally, what) in [(&mut me, &mut a_me, "ME"), (&mut cs, &mut a_cs, "CS")] {
@@ -864,7 +907,7 @@ fn check_initialization_mode(model: &Model, config: &Config, fmu_type: Fmi2Type,
         let dd = dd_column(&mut inst, &u_vr, &[known.vr], &[1.0], &known.name);
         let fd = fd_by(&mut inst, &u_vr, x0, h, |i, v| ok(i.set_real(&[known.vr], &[v]), &format!("fmi2SetReal({})", known.name), i));
         let scale = unknown_scales(&unknowns, range, &fd.f0);
-        tally.column("Initialization Mode", &known.name, &unknowns, &scale, s_k, &dd, &fd);
+        tally.column("Initialization Mode", &known.name, &unknowns, &scale, s_k, &dd, &fd, None);
     }
     let what = format!("{} [{}], initialization, {fmu_type:?}", model.name, config.label);
     let mut text = tally.line(&what);
