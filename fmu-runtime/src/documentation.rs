@@ -138,7 +138,7 @@ pub fn html<M: Model>(d: &ModelDescription, document: &Document, w: &Words) -> S
     let states: Vec<&Variable> = d.table.state_value_reference.iter().map(|vr| &vars[*vr as usize]).collect();
     let locals: Vec<&Variable> = vars
         .iter()
-        .filter(|v| v.causality == Causality::Local && v.derivative_of.is_none() && !states.iter().any(|s| s.value_reference == v.value_reference))
+        .filter(|v| v.causality == Causality::Local && v.derivative_of.is_none() && d.table.state_index(v).is_none())
         .collect();
     let solver = crate::stepper::description(info.solver);
     let e = info.default_experiment;

@@ -18,7 +18,9 @@ macro_rules! export_fmu {
             use std::os::raw::c_char;
             type M = $model;
 
-            static EXPORTED: $crate::exported::ExportedCell = $crate::exported::ExportedCell::new();
+            /// The library's declarations and descriptions, made once per library load and
+            /// shared by every instance (the descriptions only when build-fmus asks for them).
+            static EXPORTED: $crate::exported::ExportedCell<$crate::exported::Exported<M>> = $crate::exported::ExportedCell::new();
 
             /// The model crate's Cargo metadata and source date, read here, in the model crate, at
             /// compile time: the XML the binary writes at run time is the one build-fmus packaged.
@@ -29,11 +31,11 @@ macro_rules! export_fmu {
                 source_date_epoch: option_env!("SOURCE_DATE_EPOCH"),
             };
 
-            fn make() -> $crate::exported::Exported {
-                $crate::exported::Exported::with_package::<M>(&PACKAGE)
+            fn make() -> $crate::exported::Exported<M> {
+                $crate::exported::Exported::<M>::with_package(&PACKAGE)
             }
 
-            fn exported() -> &'static $crate::exported::Exported {
+            fn exported() -> &'static $crate::exported::Exported<M> {
                 EXPORTED.get_or_init(make)
             }
 
@@ -49,7 +51,7 @@ macro_rules! export_fmu {
                 release
             };
 
-            fn guarded_text(pick: fn(&$crate::exported::Exported) -> *const c_char) -> *const c_char {
+            fn guarded_text(pick: fn(&$crate::exported::Exported<M>) -> *const c_char) -> *const c_char {
                 std::panic::catch_unwind(|| pick(exported())).unwrap_or(std::ptr::null())
             }
 
@@ -60,11 +62,11 @@ macro_rules! export_fmu {
             /// The first standard's (FMI 2.0's) modelDescription.xml and documentation page.
             #[no_mangle]
             pub extern "C" fn fmu_runtime_model_description() -> *const c_char {
-                guarded_text(|e| e.standards[0].model_description.as_ptr())
+                guarded_text(|e| e.described().standards[0].model_description.as_ptr())
             }
             #[no_mangle]
             pub extern "C" fn fmu_runtime_documentation() -> *const c_char {
-                guarded_text(|e| e.standards[0].documentation.as_ptr())
+                guarded_text(|e| e.described().standards[0].documentation.as_ptr())
             }
             /// The exported standards, one line each: version, output folder, binaries folder
             /// (tab-separated); the n-th line's description and page are `..._of(n)`.
@@ -74,16 +76,16 @@ macro_rules! export_fmu {
             }
             #[no_mangle]
             pub extern "C" fn fmu_runtime_model_description_of(n: usize) -> *const c_char {
-                std::panic::catch_unwind(|| exported().standards.get(n).map_or(std::ptr::null(), |s| s.model_description.as_ptr())).unwrap_or(std::ptr::null())
+                std::panic::catch_unwind(|| exported().described().standards.get(n).map_or(std::ptr::null(), |s| s.model_description.as_ptr())).unwrap_or(std::ptr::null())
             }
             #[no_mangle]
             pub extern "C" fn fmu_runtime_documentation_of(n: usize) -> *const c_char {
-                std::panic::catch_unwind(|| exported().standards.get(n).map_or(std::ptr::null(), |s| s.documentation.as_ptr())).unwrap_or(std::ptr::null())
+                std::panic::catch_unwind(|| exported().described().standards.get(n).map_or(std::ptr::null(), |s| s.documentation.as_ptr())).unwrap_or(std::ptr::null())
             }
             /// The model's problems (one per line: "file:line: rule. Fix: ..."), or NULL if none.
             #[no_mangle]
             pub extern "C" fn fmu_runtime_model_problems() -> *const c_char {
-                guarded_text(|e| e.problems.as_ref().map_or(std::ptr::null(), |p| p.as_ptr()))
+                guarded_text(|e| e.described().problems.as_ref().map_or(std::ptr::null(), |p| p.as_ptr()))
             }
 
             /// The effects of the model and their activities over its default experiment (run

@@ -23,8 +23,11 @@
 //! the same (it is canonical: see `fill_parameters`). Otherwise it restarts. What a
 //! continuation depends on — the step and the parameter vector ([`Lookahead`]), the step size —
 //! goes into FMU states, so that a restored (or deserialized) state continues bit-identically.
-//! A method that does not look ahead (the implicit one, diffsol's esdirk34, made afresh for
-//! every advance) stops at the communication point. The instance keeps its own exact time.
+//! A method that does not look ahead (the implicit one, [`crate::stepper::implicit`]) stops at
+//! the communication point; what it keeps from one advance to the next (its Jacobian and the
+//! factors of its Newton matrix) goes into FMU states as the point it was evaluated at
+//! ([`JacobianPoint`]), from which a restored instance makes it again. The instance keeps its
+//! own exact time.
 //!
 //! State events: a model with event indicators gets them evaluated after every accepted internal
 //! step (with the modes of this segment, which hold over it). Where one changes sign — from > 0
@@ -47,7 +50,8 @@ use diffsol::{
 use crate::model::{Model, Solver};
 use crate::rk::StepRecord;
 use crate::stepper::events::{step_until, Ends, Events, RootScratch};
-use crate::stepper::{self, Method, Ode, Setup, Stepper};
+use crate::stepper::jacobian::StructureKey;
+use crate::stepper::{self, JacobianPoint, Method, Ode, Setup, Stepper};
 use crate::values::{Derivatives, EventIndicators, Knowns};
 
 type Mat = NalgebraMat<f64>;
@@ -180,6 +184,24 @@ pub const MAX_INTERNAL_STEPS: usize = 200_000;
 /// within its own rounding of the current time): 1000 ulp of t.
 pub fn negligible_interval(t: f64) -> f64 {
     1e3 * f64::EPSILON * t.abs().max(1.0)
+}
+
+/// The float just below `t` (toward -infinity).
+pub fn just_below(t: f64) -> f64 {
+    if t.is_nan() || t == f64::NEG_INFINITY {
+        t
+    } else if t == 0.0 {
+        -f64::from_bits(1)
+    } else if t > 0.0 {
+        f64::from_bits(t.to_bits() - 1)
+    } else {
+        f64::from_bits(t.to_bits() + 1)
+    }
+}
+
+/// The float just above `t` (toward +infinity).
+pub fn just_above(t: f64) -> f64 {
+    -just_below(-t)
 }
 
 /// A zero crossing is located to within this fraction of max(|t|, 1 s) (about 2e-13 s at 1 s,
@@ -344,6 +366,9 @@ pub struct Integrator {
     resume: bool,
     /// Where the last advance ended.
     reached: f64,
+    /// The instant at which the next advance takes the indicators at its start, when not its
+    /// start ([`start_after_time_event`](Self::start_after_time_event)).
+    indicators_at: Option<f64>,
     /// Buffers: the state an advance reached, event indicators.
     y_end: Vec<f64>,
     z: Vec<f64>,
@@ -353,6 +378,10 @@ pub struct Integrator {
     /// The size of the solver's next step (None before the first step: diffsol's starting-step
     /// heuristic then chooses).
     pub step_size: Option<f64>,
+    /// The time event the last advance ended at (just below it): the next advance, when it
+    /// starts there, starts just past it. Kept when the integrator is re-made for new modes
+    /// (the master's event mode at that event) and in FMU states, like the step size.
+    pub after_time_event: Option<f64>,
 }
 
 impl Integrator {
@@ -371,7 +400,8 @@ impl Integrator {
         activities: &[usize],
     ) -> Result<Self, String> {
         let atol: Vec<f64> = nominals.iter().map(|n| ABSOLUTE_PER_RELATIVE * rtol * n.abs().max(f64::MIN_POSITIVE)).collect();
-        let method = stepper::make(method, &Setup { n_states, rtol, atol: &atol, activities });
+        let structure = StructureKey { model: std::any::TypeId::of::<M>(), integers: integers.to_vec(), booleans: booleans.to_vec(), n: n_states };
+        let method = stepper::make(method, &Setup { n_states, rtol, atol: &atol, nominals, activities, structure: &structure });
         let integers: Arc<[i32]> = integers.into();
         let booleans: Arc<[bool]> = booleans.into();
         let indicators = (n_indicators > 0)
@@ -428,11 +458,13 @@ impl Integrator {
             quadrature,
             resume: false,
             reached: f64::NAN,
+            indicators_at: None,
             y_end: Vec::with_capacity(n_states),
             z: vec![0.0; n_indicators],
             z_prev: vec![0.0; n_indicators],
             roots: RootScratch::new(n_states, n_indicators),
             step_size: None,
+            after_time_event: None,
         })
     }
 
@@ -444,6 +476,42 @@ impl Integrator {
             return None;
         }
         self.method.saved_step().map(|step| Lookahead { step, parameters: self.p.clone() })
+    }
+
+    /// Where the Jacobian the method keeps for the next advance was evaluated (the implicit
+    /// method's), for an FMU state to carry; else None.
+    pub fn jacobian_point(&self) -> Option<JacobianPoint> {
+        self.method.saved_jacobian()
+    }
+
+    /// Makes the Jacobian of a saved [`jacobian_point`](Self::jacobian_point) again before the
+    /// next advance.
+    pub fn restore_jacobian(&mut self, point: &JacobianPoint) {
+        self.method.restore_jacobian(point);
+    }
+
+    /// The first event indicator that changes sign from (`before`, x) to (`at`, x): an
+    /// indicator that jumps at a time event (the segment before it ended at the float below
+    /// it, where the solver saw no crossing). None without indicators or crossing.
+    pub fn jump_at(&mut self, before: f64, at: f64, x: &[f64]) -> Option<usize> {
+        let g = self.indicators.as_ref()?;
+        g(x, &self.p, before, &mut self.z_prev);
+        g(x, &self.p, at, &mut self.z);
+        (0..self.n_indicators).find(|&j| crate::stepper::events::crossed(self.z_prev[j], self.z[j]))
+    }
+
+    /// The next advance starts afresh, not continuing the stepper's last step.
+    pub fn restart(&mut self) {
+        self.resume = false;
+    }
+
+    /// The next advance starts afresh just past the time event `t_event` (where the equations
+    /// have changed), and takes the event indicators at its start as the model gives them at
+    /// `t_event` (the modes were settled there), so that one crossing between the two instants
+    /// is a state event just past it, as when the solver started at the event itself.
+    pub fn start_after_time_event(&mut self, t_event: f64) {
+        self.resume = false;
+        self.indicators_at = Some(t_event);
     }
 
     /// Continues from a saved [`lookahead`](Self::lookahead): the state `x` at `t` was reached
@@ -518,10 +586,11 @@ impl Integrator {
     fn advance_method(&mut self, resume: bool, t0: f64, x0: &[f64], t1: f64, limit: f64, budget: &mut usize) -> Result<(Advanced, bool), String> {
         // A moving input's motion is only the master's word for this communication step.
         let moving = self.p[3 * self.n_known + 1] != 0.0;
+        let indicators_at = self.indicators_at.take();
         let Integrator { problem, rhs, indicators, n_indicators, method, rtol, atol, p, quadrature, reached, y_end, z, z_prev, roots, step_size, .. } = self;
         let (rhs, p, reached): (&RhsDyn, &[f64], f64) = (&**rhs, p, *reached);
         let ode = Ode { problem, rhs, p, atol, rtol: *rtol };
-        let events = indicators.as_ref().map(|g| Events { g: &**g, p, n: *n_indicators });
+        let events = indicators.as_ref().map(|g| Events { g: &**g, p, n: *n_indicators, start_at: indicators_at });
         method.with_stepper(ode, &mut |stepper: &mut dyn Stepper| {
             let looks_ahead = stepper.looks_ahead() && !moving;
             let limit = if looks_ahead { limit.max(t1) } else { t1 };

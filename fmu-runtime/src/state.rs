@@ -14,6 +14,7 @@
 use crate::phase::Phase;
 use crate::integrate::{parameters_len, Lookahead};
 use crate::rk::{StepRecord, STAGES};
+use crate::stepper::JacobianPoint;
 use crate::values::Values;
 
 pub const MAGIC: &[u8; 8] = b"FMURSST\0";
@@ -22,7 +23,9 @@ pub const MAGIC: &[u8; 8] = b"FMURSST\0";
 /// 6: the known reals no longer hold the states (`Values::states` is their one home), so the
 /// known reals, input slopes, curvatures, previous inputs and the solver's parameter vector are
 /// shorter by the number of states.
-pub const FORMAT_VERSION: u32 = 6;
+/// 7: the point the implicit solver's kept Jacobian was evaluated at (`jacobian`), and the time
+/// event the solver last ended at (`after_time_event`).
+pub const FORMAT_VERSION: u32 = 7;
 
 /// The experiment the master set up (fmi2SetupExperiment; fmi3EnterInitializationMode).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,6 +70,12 @@ pub struct Snapshot {
     /// The explicit solver's last step when it reaches past this point and the next doStep
     /// would continue it (the state here was interpolated in it).
     pub lookahead: Option<Lookahead>,
+    /// Where the implicit solver's kept Jacobian was evaluated and the h gamma of its Newton
+    /// matrix: a restored instance makes both again, bit for bit, and steps as the live one.
+    pub jacobian: Option<JacobianPoint>,
+    /// The time event the solver's last advance ended at (just below it): a step from there
+    /// starts just past it.
+    pub after_time_event: Option<f64>,
 }
 
 /// FNV-1a, 64 bit. Any change of a single byte changes the hash (each step is a bijection).
@@ -174,6 +183,14 @@ impl Snapshot {
             w.reals(&r.stages);
             w.reals(&la.parameters);
         }
+        w.u8(self.jacobian.is_some() as u8);
+        if let Some(j) = &self.jacobian {
+            w.f64(j.t);
+            w.f64(j.h_gamma);
+            w.reals(&j.x);
+            w.reals(&j.parameters);
+        }
+        w.opt(self.after_time_event);
         w.reals(&s.values.known);
         w.reals(&s.values.calculated);
         w.reals(&s.values.derivatives);
@@ -246,6 +263,26 @@ impl Snapshot {
                 ));
             }
         }
+        let jacobian = match r.u8()? {
+            0 => None,
+            1 => Some(JacobianPoint {
+                t: r.f64()?,
+                h_gamma: r.f64()?,
+                x: r.reals("states at the solver's Jacobian point", shape.states)?,
+                parameters: r.reals("solver parameters of its Jacobian", parameters_len(shape.known))?,
+            }),
+            other => return Err(format!("the serialized FMU state has an invalid Jacobian flag {other}")),
+        };
+        if let Some(j) = &jacobian {
+            let finite = [j.t].iter().chain(&j.x).chain(&j.parameters).all(|v| v.is_finite());
+            if !(finite && j.h_gamma.is_finite() && j.h_gamma > 0.0) {
+                return Err(format!("the serialized FMU state's Jacobian point (t = {} s, h gamma = {}) is not finite", j.t, j.h_gamma));
+            }
+        }
+        let after_time_event = r.opt()?;
+        if after_time_event.is_some_and(|e| !e.is_finite()) {
+            return Err(format!("the serialized FMU state's time event {after_time_event:?} is not finite"));
+        }
         let known = r.reals("known reals", shape.known)?;
         let calculated = r.reals("calculated reals", shape.calculated)?;
         let derivatives = r.reals("derivatives", shape.states)?;
@@ -285,6 +322,8 @@ impl Snapshot {
             },
             step_size,
             lookahead,
+            jacobian,
+            after_time_event,
         })
     }
 }
@@ -387,6 +426,8 @@ mod tests {
                 },
                 parameters: vec![1.0, 2.0, -3.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             }),
+            jacobian: Some(JacobianPoint { t: 0.049, x: vec![3.95], parameters: vec![1.0, 2.0, -3.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], h_gamma: 2.1e-6 }),
+            after_time_event: Some(0.05),
         }
     }
 
@@ -419,6 +460,17 @@ mod tests {
         let s = Snapshot { lookahead: None, ..sample() };
         let bytes = s.serialize("{guid}");
         assert_eq!(Snapshot::deserialize(&bytes, "{guid}", &shape()).unwrap(), s);
+        let s = Snapshot { lookahead: None, jacobian: None, ..sample() };
+        let bytes = s.serialize("{guid}");
+        assert_eq!(Snapshot::deserialize(&bytes, "{guid}", &shape()).unwrap(), s);
+    }
+
+    #[test]
+    fn a_jacobian_point_that_is_not_finite_is_refused() {
+        let mut s = sample();
+        s.jacobian.as_mut().unwrap().h_gamma = 0.0;
+        let err = Snapshot::deserialize(&s.serialize("{guid}"), "{guid}", &shape()).unwrap_err();
+        assert!(err.contains("Jacobian point"), "{err}");
     }
 
     #[test]

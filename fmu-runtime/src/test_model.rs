@@ -174,7 +174,7 @@ impl Model for Block {
     fn outputs<R: Real>(&self, _: &Knowns<R>, _: &mut Outputs<R>) {}
 }
 
-/// `Block` integrated by the implicit solver: the same events, located on esdirk34's dense output.
+/// `Block` integrated by the implicit solver: the same events, located on its dense output.
 pub struct ImplicitBlock(Block);
 
 impl Model for ImplicitBlock {
@@ -349,5 +349,56 @@ impl Model for Chooser {
     }
     fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
         out[self.y] = k[self.x] * (k[self.gain] as f64);
+    }
+}
+
+/// Three inertias in a row with structured names (`w[1]` .. `w[3]`, `theta[1]`, `theta[2]`, the
+/// torsional chain in small), whose declarations and evaluations of the derivatives are counted
+/// (`ARRAY_DECLARED`, `ARRAY_EVALUATED`): what instantiation costs shows in the counts.
+pub struct Array {
+    w: Vec<State>,
+    theta: Vec<State>,
+    first: Output,
+}
+
+/// How many times `Array::declare` ran.
+pub static ARRAY_DECLARED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+/// How many times `Array::derivatives` ran.
+pub static ARRAY_EVALUATED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+impl Model for Array {
+    fn info() -> ModelInfo {
+        ModelInfo {
+            name: "Array",
+            description: "arrays with structured names",
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 1.0, step_size: 0.1 },
+            solver: Solver::ExplicitRungeKutta,
+            documentation: "",
+        }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        ARRAY_DECLARED.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        Array {
+            w: (1..=3).map(|i| d.state(&format!("w[{i}]"), 0.0, "rad/s").describe("speed of an inertia")).collect(),
+            theta: (1..3).map(|i| d.state(&format!("theta[{i}]"), 0.0, "rad").describe("twist of a shaft")).collect(),
+            first: d.output("w_first", "rad/s").describe("speed of the first inertia"),
+        }
+    }
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
+        ARRAY_EVALUATED.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        let mut incoming = R::from(1.0);
+        for i in 0..3 {
+            let outgoing = if i < 2 {
+                der[self.theta[i]] = k[self.w[i]] - k[self.w[i + 1]];
+                k[self.theta[i]]
+            } else {
+                k[self.w[i]]
+            };
+            der[self.w[i]] = incoming - outgoing;
+            incoming = outgoing;
+        }
+    }
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
+        out[self.first] = k[self.w[0]];
     }
 }

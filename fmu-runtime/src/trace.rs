@@ -141,7 +141,8 @@ impl Tracing {
         })
     }
 
-    /// Every known that reached a comparison (`<`, `>`, `min`, `abs`, ...) since the start:
+    /// Every known that reached a comparison (`<`, `>`, `min`, `abs`, ...) or left the trace
+    /// through `Real::value` since the start:
     /// the knowns that may decide a branch of the equations. Ascending, without repeats.
     pub fn compared(&self) -> Vec<u32> {
         STORE.with(|s| {
@@ -290,8 +291,19 @@ impl Sum for Trace {
 }
 
 impl Real for Trace {
+    /// The value, leaving the trace: what the equations compute from it (`if t >= t_step.value()`,
+    /// a root found over f64) is not traced, so its knowns count as compared.
     fn value(self) -> f64 {
+        self.note_compared(None);
         self.value
+    }
+    fn is_finite(self) -> bool {
+        self.note_compared(None);
+        self.value.is_finite()
+    }
+    fn is_nan(self) -> bool {
+        self.note_compared(None);
+        self.value.is_nan()
     }
     fn abs(self) -> Self {
         self.note_compared(None);

@@ -11,6 +11,8 @@
 //! reference names one variable whatever its type). A state also declares its derivative
 //! `der(<name>)` right after itself.
 
+use std::collections::{HashMap, HashSet};
+use std::hash::{BuildHasherDefault, Hasher};
 use std::panic::Location;
 
 use crate::units;
@@ -207,14 +209,39 @@ impl Variable {
 /// accepted; this bound is the closest to 0 that an inclusive range can say "above 0" with.
 pub const SMALLEST_POSITIVE: f64 = f64::MIN_POSITIVE;
 
-/// A variable name FMI masters and scripting languages can use: a letter, then letters, digits,
-/// '_'; `der(x)` for a state's derivative.
-fn is_valid_name(name: &str) -> bool {
-    let plain = |n: &str| n.chars().next().is_some_and(|c| c.is_ascii_alphabetic()) && n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+/// A variable name FMI masters and scripting languages can use, and a valid name of FMI's
+/// structured naming convention (FMI 2.0 section 2.2.9, FMI 3.0 section 2.4.7.5): parts joined by
+/// '.', each a letter, then letters, digits or '_', optionally with array indices
+/// (`w[1]`, `T[2,3]`, `pipe[3].T[14]`); `der(x)` for a state's derivative. (FMI's grammar also
+/// allows a leading '_' and quoted names, `'motor #234'`; this runtime does not.)
+pub fn is_valid_name(name: &str) -> bool {
     match name.strip_prefix("der(").and_then(|n| n.strip_suffix(')')) {
-        Some(inner) => plain(inner),
-        None => plain(name),
+        Some(inner) => is_identifier(inner),
+        None => is_identifier(name),
     }
+}
+
+/// `part {"." part}`, a part being `letter {letter | digit | "_"} ["[" digits {"," digits} "]"]`.
+fn is_identifier(name: &str) -> bool {
+    name.split('.').all(|part| {
+        let (base, indices) = match part.find('[') {
+            Some(open) => (&part[..open], Some(&part[open..])),
+            None => (part, None),
+        };
+        let base_ok = base.chars().next().is_some_and(|c| c.is_ascii_alphabetic()) && base.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+        let indices_ok = indices.is_none_or(|i| {
+            i.strip_prefix('[')
+                .and_then(|i| i.strip_suffix(']'))
+                .is_some_and(|list| list.split(',').all(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())))
+        });
+        base_ok && indices_ok
+    })
+}
+
+/// Whether a name uses the structured convention's hierarchy or array indices (`a.b`, `w[1]`):
+/// a description with such a name says `variableNamingConvention="structured"`.
+pub fn is_structured_name(name: &str) -> bool {
+    name.contains(['.', '['])
 }
 
 /// A number as people read it: shortest round-trip text, an exponent for tiny or huge values.
@@ -305,6 +332,29 @@ pub struct VariableTable {
     /// What is wrong with the declarations, one message per problem: "file:line: the rule
     /// broken. Fix: what to do". A model with problems is not exported (build-fmus prints them).
     pub problems: Vec<String>,
+    /// The value reference of each name (the first declared, for a name declared twice): what
+    /// `by_name` and the duplicate check look up, so that declaring costs O(variables).
+    names: HashMap<String, u32, BuildHasherDefault<NameHasher>>,
+}
+
+/// FNV-1a over a name's bytes: the name index's hash (a model's own names, no adversary to
+/// guard against; the standard library's SipHash cost a tenth of a declaration).
+struct NameHasher(u64);
+
+impl Default for NameHasher {
+    fn default() -> Self {
+        NameHasher(crate::state::FNV_OFFSET)
+    }
+}
+
+impl Hasher for NameHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        self.0 = crate::state::fnv1a64(self.0, bytes);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
 }
 
 impl VariableTable {
@@ -315,7 +365,14 @@ impl VariableTable {
 
     /// The variable with this name.
     pub fn by_name(&self, name: &str) -> Option<&Variable> {
-        self.variables.iter().find(|v| v.name == name)
+        self.names.get(name).and_then(|&vr| self.get(vr)).filter(|v| v.name == name)
+    }
+
+    /// Whether the description says `variableNamingConvention="structured"`: some name uses
+    /// the structured convention's hierarchy or array indices (every accepted name is a valid
+    /// structured name, so a model without such names keeps FMI's default, flat).
+    pub fn structured_names(&self) -> bool {
+        self.variables.iter().any(|v| is_structured_name(&v.name))
     }
 
     /// The state indices of the states declared with `Declarations::calculated_state`.
@@ -378,6 +435,10 @@ impl VariableTable {
 #[derive(Default)]
 pub struct Declarations {
     table: VariableTable,
+    /// The event indicators' names, for the duplicate check.
+    indicator_names: HashSet<String>,
+    /// Whether any input has been declared.
+    has_inputs: bool,
 }
 
 impl Declarations {
@@ -396,7 +457,7 @@ impl Declarations {
 
     /// Whether any input has been declared.
     pub fn has_inputs(&self) -> bool {
-        self.table.variables.iter().any(|v| v.causality == Causality::Input)
+        self.has_inputs
     }
 
     /// Records a problem found in the declaration at `at`.
@@ -408,15 +469,25 @@ impl Declarations {
     fn push(&mut self, mut var: Variable) -> usize {
         let at = Location::caller();
         let name = var.name.clone();
+        let vr = self.table.variables.len() as u32;
         if let Some(first) = self.table.by_name(&name).map(|v| self.table.declared_at[v.value_reference as usize]) {
             self.problem(
                 at,
                 format!("variable '{name}' is declared twice (first at {}:{}). Fix: give each variable its own name", first.file(), first.line()),
             );
+        } else {
+            self.table.names.insert(name.clone(), vr);
         }
         if !is_valid_name(&name) {
-            self.problem(at, format!("'{name}' is not a usable variable name. Fix: start with a letter, then letters, digits or '_'"));
+            self.problem(
+                at,
+                format!(
+                    "'{name}' is not a usable variable name. Fix: start with a letter, then letters, digits or '_'; \
+                     an array element as name[1] (or name[1,2]), a part of a component as part.name"
+                ),
+            );
         }
+        self.has_inputs |= var.causality == Causality::Input;
         match var.unit.as_deref() {
             Some("") => self.problem(at, format!("'{name}' has no unit. Fix: give its SI unit (\"1\" for a dimensionless quantity)")),
             Some(unit) if units::lookup(unit).is_none() => self.problem(
@@ -425,7 +496,7 @@ impl Declarations {
             ),
             _ => {}
         }
-        var.value_reference = self.table.variables.len() as u32;
+        var.value_reference = vr;
         self.table.variables.push(var);
         self.table.declared_at.push(at);
         self.table.variables.len() - 1
@@ -681,7 +752,7 @@ impl Declarations {
     /// the log messages of the events it triggers.
     #[track_caller]
     pub fn event_indicator(&mut self, name: &str, description: &str) -> Indicator {
-        if self.table.indicators.iter().any(|(n, _)| n == name) {
+        if !self.indicator_names.insert(name.to_string()) {
             self.problem(Location::caller(), format!("event indicator '{name}' is declared twice. Fix: give each indicator its own name"));
         }
         self.table.indicators.push((name.to_string(), description.to_string()));
@@ -933,6 +1004,46 @@ mod tests {
         assert!(p[3].contains("'z' has no default (NaN)"));
         assert!(p[4].contains("'w' has no description"));
         assert!(p[5].contains("'2x' is not a usable variable name"));
+    }
+
+    #[test]
+    fn structured_names_are_accepted_as_fmi_defines_them() {
+        // FMI 2.0 section 2.2.9 / FMI 3.0 section 2.4.7.5: '.' between parts, array indices on any part.
+        for name in ["w[1]", "theta[12]", "T[1,2,3]", "pipe[3,4].T[14]", "vehicle.engine.speed", "der(w[1])", "der(a.b[2])", "x_1", "R"] {
+            assert!(is_valid_name(name), "{name}");
+        }
+        for name in ["w[]", "w[1", "w[a]", "w[-1]", "w[1,]", "w [1]", "w[1]x", "a..b", ".a", "a.", "a.2b", "2x", "_x", "der(w[1]", "der()", "'quoted'", "w[1][2]", ""] {
+            assert!(!is_valid_name(name), "{name}");
+        }
+        let mut d = Declarations::new();
+        d.state("w[1]", 0.0, "rad/s").describe("a");
+        d.state("w[2]", 0.0, "rad/s").describe("b");
+        d.parameter("w[1]", 1.0, "m").describe("again");
+        d.parameter("w[x]", 1.0, "m").describe("c");
+        let t = d.into_table();
+        assert_eq!(t.problems.len(), 2, "{:#?}", t.problems);
+        assert!(t.problems[0].contains("'w[1]' is declared twice"), "{}", t.problems[0]);
+        assert!(t.problems[1].contains("'w[x]' is not a usable variable name") && t.problems[1].contains("name[1]"), "{}", t.problems[1]);
+        assert_eq!(t.by_name("der(w[2])").map(|v| v.value_reference), Some(3));
+        assert_eq!(t.by_name("w[1]").map(|v| v.causality), Some(Causality::Local), "the first of a name declared twice");
+        assert!(t.structured_names());
+        let mut plain = Declarations::new();
+        plain.state("w_1", 0.0, "rad/s").describe("a");
+        assert!(!plain.into_table().structured_names(), "flat names keep FMI's default convention");
+    }
+
+    #[test]
+    fn declaring_costs_the_same_per_variable_at_any_size() {
+        // A name index, not a scan: 20 000 states (40 000 variables) in a fraction of a second,
+        // where a scan per name took seconds (quadratic). Generous for a loaded debug build.
+        let started = std::time::Instant::now();
+        let mut d = Declarations::new();
+        for i in 1..=20_000 {
+            d.state(&format!("x[{i}]"), 0.0, "m").describe("a state");
+        }
+        let t = d.into_table();
+        assert!(t.problems.is_empty() && t.variables.len() == 40_000);
+        assert!(started.elapsed().as_secs_f64() < 2.0, "{:?}", started.elapsed());
     }
 
     #[test]

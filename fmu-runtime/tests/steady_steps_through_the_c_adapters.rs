@@ -12,8 +12,8 @@ use motor_fan::MotorFan;
 
 const H: f64 = 1e-3;
 
-fn exported() -> &'static Exported {
-    Box::leak(Box::new(Exported::of::<MotorFan>()))
+fn exported() -> &'static Exported<MotorFan> {
+    Box::leak(Box::new(Exported::of()))
 }
 
 /// Allocations in `steps` calls of `step(t)` after `warm_up` of them; `step` returns true on OK.

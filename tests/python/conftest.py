@@ -33,6 +33,18 @@ EXPECTED_FMUS = ("RlcCircuit", "MotorFan", "TractionMotorThermal", "TorqueSensor
 
 BUILD_HINT = "run `cargo run --release -p build-fmus` (from the repository root) to build the FMUs into dist/"
 
+# The CI build's build-fmus and its cargo target directory, which a model crate built outside the
+# workspace shares (test_generator.py, test_chain.py): only the crate itself is compiled there.
+TARGET_DIR = Path(os.environ["CARGO_TARGET_DIR"]).resolve() if os.environ.get("CARGO_TARGET_DIR") else REPO_ROOT / "target"
+BUILD_FMUS = TARGET_DIR / "release" / "build-fmus"
+
+
+def build_fmus(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+    """Runs the CI build's `build-fmus` with these arguments, sharing its target directory."""
+    assert BUILD_FMUS.is_file(), f"{BUILD_FMUS} not found: run `cargo run --release -p build-fmus` first"
+    env = dict(os.environ, CARGO_TARGET_DIR=str(TARGET_DIR))
+    return subprocess.run([str(BUILD_FMUS), *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=900)
+
 
 def require_fmu(path: Path) -> Path:
     """Fail the calling test clearly if an FMU is not there."""

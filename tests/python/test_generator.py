@@ -26,22 +26,14 @@ from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 from scipy.integrate import solve_ivp
 
-from conftest import REPO_ROOT, assert_fmutool_clean
+from conftest import REPO_ROOT, TARGET_DIR, assert_fmutool_clean, build_fmus
 
 TUTORIAL_MODEL = REPO_ROOT / "models" / "elevator-drive" / "src" / "lib.rs"
-TARGET_DIR = Path(os.environ["CARGO_TARGET_DIR"]).resolve() if os.environ.get("CARGO_TARGET_DIR") else REPO_ROOT / "target"
-BUILD_FMUS = TARGET_DIR / "release" / "build-fmus"
 
 # The tutorial's parameter values (its declarations), restated for the independent computation.
 U_DC, R, L, K, J, RADIUS, M_CABIN, M_CW = 400.0, 0.5, 0.01, 60.0, 10.0, 0.3, 1200.0, 1000.0
 G = 9.80665  # standard gravity g_n (ISO 80000-3), m/s2
 DUTY = 0.5  # the duty_cycle input's start value
-
-
-def build_fmus(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    assert BUILD_FMUS.is_file(), f"{BUILD_FMUS} not found: run `cargo run --release -p build-fmus` first"
-    env = dict(os.environ, CARGO_TARGET_DIR=str(TARGET_DIR))
-    return subprocess.run([str(BUILD_FMUS), *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=900)
 
 
 def user_lines(source: str) -> int:

@@ -1148,18 +1148,22 @@ fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
 }
 
 /// A serialized state made to look as if it came from an FMU with another guid: the guid
-/// (text, or else its 16 binary bytes) is located in the bytes and one of its hex digits (or
-/// bytes) changed. (If the format also carries a checksum, that will catch it too; either
-/// way the state is not from this FMU and must be rejected.)
+/// (text, or the part of it the binary knows, its first 20 characters "{xxxxxxxx-xxxx-xxxx-":
+/// docs/DESIGN.md, "The token is checked without the dependency probe"; or else its 16 binary
+/// bytes) is located in the bytes and one of its hex digits (or bytes) changed. (If the format
+/// also carries a checksum, that will catch it too; either way the state is not from this FMU
+/// and must be rejected.)
 fn with_foreign_guid(mut bytes: Vec<u8>, guid: &str) -> Result<Vec<u8>, String> {
-    if let Some(at) = find(&bytes, guid.as_bytes()) {
-        let digit = guid
-            .bytes()
-            .position(|c| c.is_ascii_hexdigit())
-            .ok_or("guid without hex digits")?;
-        let c = &mut bytes[at + digit];
-        *c = if *c == b'0' { b'1' } else { b'0' };
-        return Ok(bytes);
+    for text in [guid, guid.get(..20).unwrap_or(guid)] {
+        if let Some(at) = find(&bytes, text.as_bytes()) {
+            let digit = text
+                .bytes()
+                .position(|c| c.is_ascii_hexdigit())
+                .ok_or("guid without hex digits")?;
+            let c = &mut bytes[at + digit];
+            *c = if *c == b'0' { b'1' } else { b'0' };
+            return Ok(bytes);
+        }
     }
     if let Some(binary) = guid_binary(guid) {
         if let Some(at) = find(&bytes, &binary) {

@@ -12,7 +12,8 @@
 //!   dtheta_i/dt = w_i - w_{i+1},   T_i = K theta_i + D (w_i - w_{i+1})
 //! ```
 //!
-//! 2N - 1 states, each derivative depending on at most 3 of them: a banded Jacobian. The drive
+//! 2N - 1 states, `w[i]` and `theta[i]` (FMI's structured names, 1-based), each derivative
+//! depending on at most 5 of them: a banded Jacobian. The drive
 //! torque steps from 0 to `drive_torque` at `step_time`, a declared time event. Its defaults
 //! are a non-stiff chain (J = 1 kg m2, K = 1e4 N m/rad, D = 1 N m s/rad: the fastest mode near
 //! 2 sqrt(K/J) = 200 rad/s, lightly damped); the stiff chain of the benchmark is the same model
@@ -67,8 +68,9 @@ impl Model for TorsionalChain {
         let load_coefficient = d.parameter("c_load", 1.0, "N.m.s/rad").min(0.0).describe("Viscous load on the last inertia");
         let drive_torque = d.parameter("drive_torque", 100.0, "N.m").describe("Drive torque on the first inertia after step_time");
         let step_time = d.parameter("step_time", 0.1, "s").describe("Time of the drive torque's step (a time event)");
-        let speeds = (1..=INERTIAS).map(|i| d.state(&format!("w_{i}"), 0.0, "rad/s").describe("Speed of an inertia")).collect();
-        let twists = (1..INERTIAS).map(|i| d.state(&format!("theta_{i}"), 0.0, "rad").describe("Twist of a shaft")).collect();
+        // Arrays declared in a loop, with FMI's structured names (1-based): w[1] .. w[N], theta[1] .. theta[N - 1].
+        let speeds = (1..=INERTIAS).map(|i| d.state(&format!("w[{i}]"), 0.0, "rad/s").describe("Speed of an inertia")).collect();
+        let twists = (1..INERTIAS).map(|i| d.state(&format!("theta[{i}]"), 0.0, "rad").describe("Twist of a shaft")).collect();
         TorsionalChain {
             inertia,
             stiffness,

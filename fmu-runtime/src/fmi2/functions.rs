@@ -35,7 +35,7 @@ pub fn get_version() -> *const c_char {
 }
 
 pub unsafe fn instantiate<M: Model>(
-    exported: &'static Exported,
+    exported: &'static Exported<M>,
     instance_name: fmi2String,
     fmu_type: fmi2Type,
     guid: fmi2String,
@@ -57,20 +57,25 @@ pub unsafe fn instantiate<M: Model>(
     if name.is_empty() {
         return fail("the instance name is null or empty".into());
     }
-    if let Some(problems) = &exported.problems {
-        return fail(format!("the model is not valid: {}", problems.to_string_lossy()));
+    if let Some(problems) = &exported.instantiation_problems {
+        return fail(format!("the model is not valid: {problems}"));
     }
     let interface = match fmu_type {
         fmi2CoSimulation => Interface::CoSimulation,
         fmi2ModelExchange => Interface::ModelExchange,
         other => return fail(format!("fmuType {other} is neither fmi2ModelExchange (0) nor fmi2CoSimulation (1)")),
     };
+    // The guid's first half, the hash of the description without its dependency lists: the
+    // binary knows it without probing its equations (docs/DESIGN.md).
+    let Ok(check) = catch_unwind(AssertUnwindSafe(|| exported.token_check(crate::standards::Standard::Fmi2))) else {
+        return fail("internal error (panic) writing the description to check the token".into());
+    };
     match c_str(guid) {
-        Some(g) if g == exported.of_standard(crate::standards::Standard::Fmi2).token => {}
-        Some(g) => return fail(format!("guid {g} does not match this FMU's guid {}: modelDescription.xml and binary differ", exported.of_standard(crate::standards::Standard::Fmi2).token)),
+        Some(g) if check.accepts(g) => {}
+        Some(g) => return fail(format!("guid {g} does not match this FMU's guid {}: modelDescription.xml and binary differ", check.shown())),
         None => return fail("guid is null or not UTF-8".into()),
     }
-    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::for_interface(interface, &exported.of_standard(crate::standards::Standard::Fmi2).token, logger))) {
+    match catch_unwind(AssertUnwindSafe(|| Instance::<M>::shared(interface, check.shown(), logger, &exported.declared))) {
         Ok(instance) => Component::into_raw(instance),
         Err(payload) => {
             // The logger moved into the closure; build a fresh one to report.
@@ -466,7 +471,7 @@ mod tests {
 
     #[test]
     fn a_panic_in_the_model_becomes_fmi2_fatal_and_a_message() {
-        let exported: &'static Exported = Box::leak(Box::new(Exported::of::<Panicky>()));
+        let exported: &'static Exported<Panicky> = Box::leak(Box::new(Exported::of()));
         // SAFETY: on x86_64 SysV a non-variadic callee reads the same registers as the variadic
         // type declares; the runtime passes no variadic arguments.
         let logger: fmi2CallbackLogger = unsafe { std::mem::transmute(record as unsafe extern "C" fn(_, _, _, _, _)) };

@@ -80,7 +80,7 @@ pub fn get_version() -> *const std::os::raw::c_char {
 
 /// fmi3InstantiateModelExchange and fmi3InstantiateCoSimulation.
 pub unsafe fn instantiate<M: Model>(
-    exported: &'static Exported,
+    exported: &'static Exported<M>,
     interface: Interface,
     instance_name: fmi3String,
     token: fmi3String,
@@ -102,21 +102,23 @@ pub unsafe fn instantiate<M: Model>(
     if name.is_empty() {
         return fail("the instance name is null or empty".into());
     }
-    if let Some(problems) = &exported.problems {
-        return fail(format!("the model is not valid: {}", problems.to_string_lossy()));
+    if let Some(problems) = &exported.instantiation_problems {
+        return fail(format!("the model is not valid: {problems}"));
     }
+    // The token's first half, the hash of the description without its dependency lists: the
+    // binary knows it without probing its equations (docs/DESIGN.md).
+    let Ok(check) = catch_unwind(AssertUnwindSafe(|| exported.token_check(crate::standards::Standard::Fmi3))) else {
+        return fail("internal error (panic) writing the description to check the token".into());
+    };
     match c_str(token) {
-        Some(t) if t == exported.of_standard(crate::standards::Standard::Fmi3).token => {}
+        Some(t) if check.accepts(t) => {}
         Some(t) => {
-            return fail(format!(
-                "instantiationToken {t} does not match this FMU's {}: modelDescription.xml and binary differ",
-                exported.of_standard(crate::standards::Standard::Fmi3).token
-            ))
+            return fail(format!("instantiationToken {t} does not match this FMU's {}: modelDescription.xml and binary differ", check.shown()))
         }
         None => return fail("instantiationToken is null or not UTF-8".into()),
     }
     let made = || {
-        let mut instance = Instance::<M>::for_interface(interface, &exported.of_standard(crate::standards::Standard::Fmi3).token, logger);
+        let mut instance = Instance::<M>::shared(interface, check.shown(), logger, &exported.declared);
         instance.hand_events_to_master(event_mode_used, early_return_allowed);
         instance
     };
@@ -646,11 +648,11 @@ mod tests {
         LOG.lock().unwrap().push((status, std::ffi::CStr::from_ptr(msg).to_string_lossy().into_owned()));
     }
 
-    fn exported<M: Model>() -> &'static Exported {
-        Box::leak(Box::new(Exported::of::<M>()))
+    fn exported<M: Model>() -> &'static Exported<M> {
+        Box::leak(Box::new(Exported::of()))
     }
 
-    unsafe fn co_simulation<M: Model>(exported: &'static Exported, token: &str) -> fmi3Instance {
+    unsafe fn co_simulation<M: Model>(exported: &'static Exported<M>, token: &str) -> fmi3Instance {
         let token = CString::new(token).unwrap();
         instantiate::<M>(exported, Interface::CoSimulation, c"i".as_ptr(), token.as_ptr(), std::ptr::null_mut(), false, Some(record), (false, false))
     }

@@ -2,11 +2,13 @@
 //! Boolean), the independent variable `time`, one Float64 per event indicator, and a
 //! ModelStructure of value references.
 
+use std::borrow::Cow;
+
 use super::functions::Extra;
 use crate::description::{real_text, Dependencies, Package, Structure};
 use crate::model::Model;
 use crate::variables::{BaseType, Variable, VariableTable};
-use crate::xml::{close, empty, enumerations, finish, write_items, header_attributes, open, start_text, variable_attributes, write_default_experiment, write_log_categories, write_units, yes_no, Xml, TOKEN_PLACEHOLDER};
+use crate::xml::{close, empty, enumerations, finish, write_items, header_attributes, open, start_text, variable_attributes, write_default_experiment, write_log_categories, write_units, yes_no, Xml, NO_ATTRIBUTES, TOKEN_PLACEHOLDER};
 
 fn write_unknowns(w: &mut Xml, element: &str, unknowns: &[(usize, Dependencies)]) {
     for (vr, deps) in unknowns {
@@ -20,29 +22,30 @@ fn write_unknowns(w: &mut Xml, element: &str, unknowns: &[(usize, Dependencies)]
 
 fn write_variable(w: &mut Xml, v: &Variable) {
     let mut a = variable_attributes(v);
+    let owned = |(k, s): (&'static str, String)| (k, Cow::Owned(s));
     let element = match v.base_type() {
         BaseType::Integer => {
-            a.extend(v.min.map(|m| ("min", (m as i32).to_string())));
-            a.extend(v.max.map(|m| ("max", (m as i32).to_string())));
+            a.extend(v.min.map(|m| ("min", (m as i32).to_string())).map(owned));
+            a.extend(v.max.map(|m| ("max", (m as i32).to_string())).map(owned));
             if v.items.is_empty() {
                 "Int32"
             } else {
-                a.push(("declaredType", v.name.clone()));
+                a.push(("declaredType", Cow::Borrowed(v.name.as_str())));
                 "Enumeration"
             }
         }
         BaseType::Boolean => "Boolean",
         _ => {
-            a.extend(v.unit.clone().map(|u| ("unit", u)));
-            a.extend(v.min.map(|m| ("min", real_text(m))));
-            a.extend(v.max.map(|m| ("max", real_text(m))));
-            a.extend(v.nominal.map(|n| ("nominal", real_text(n))));
+            a.extend(v.unit.as_deref().map(|u| ("unit", Cow::Borrowed(u))));
+            a.extend(v.min.map(|m| ("min", real_text(m))).map(owned));
+            a.extend(v.max.map(|m| ("max", real_text(m))).map(owned));
+            a.extend(v.nominal.map(|n| ("nominal", real_text(n))).map(owned));
             // FMI 3.0 names the state by its value reference (FMI 2.0 by its index).
-            a.extend(v.derivative_of.map(|of| ("derivative", of.to_string())));
+            a.extend(v.derivative_of.map(|of| ("derivative", of.to_string())).map(owned));
             "Float64"
         }
     };
-    a.extend(start_text(v).map(|s| ("start", s)));
+    a.extend(start_text(v).map(|s| ("start", s)).map(owned));
     empty(w, element, &a);
 }
 
@@ -52,7 +55,7 @@ pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &P
     let extra = Extra::of(table);
     let mut w = crate::xml::document();
     let mut header = vec![("fmiVersion", "3.0".to_string()), ("modelName", info.name.into()), ("instantiationToken", TOKEN_PLACEHOLDER.into())];
-    header.extend(header_attributes::<M>(package));
+    header.extend(header_attributes::<M>(table, package));
     open(&mut w, "fmiModelDescription", &header);
     let common = |w: &mut Xml, element: &str, more: &[(&'static str, String)]| {
         let mut attrs = vec![
@@ -85,7 +88,7 @@ pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &P
     );
     write_units(&mut w, table, &["s"]);
     if enumerations(table).next().is_some() {
-        open(&mut w, "TypeDefinitions", &[]);
+        open(&mut w, "TypeDefinitions", NO_ATTRIBUTES);
         for v in enumerations(table) {
             open(&mut w, "EnumerationType", &[("name", v.name.clone())]);
             write_items(&mut w, v);
@@ -95,7 +98,7 @@ pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &P
     }
     write_log_categories(&mut w);
     write_default_experiment::<M>(&mut w);
-    open(&mut w, "ModelVariables", &[]);
+    open(&mut w, "ModelVariables", NO_ATTRIBUTES);
     empty(
         &mut w,
         "Float64",
@@ -126,7 +129,7 @@ pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &P
         );
     }
     close(&mut w, "ModelVariables");
-    open(&mut w, "ModelStructure", &[]);
+    open(&mut w, "ModelStructure", NO_ATTRIBUTES);
     write_unknowns(&mut w, "Output", &structure.outputs);
     write_unknowns(&mut w, "ContinuousStateDerivative", &structure.derivatives);
     write_unknowns(&mut w, "InitialUnknown", &structure.initial_unknowns);

@@ -3,17 +3,21 @@
 use super::*;
 
 impl<M: Model> Instance<M> {
-    /// The instance's situation and the solver's own bits (step size, the step it would continue).
+    /// The instance's situation and the solver's own bits (step size, the step it would continue,
+    /// where its kept Jacobian was evaluated, the time event it last ended at).
     pub(super) fn snapshot(&self) -> Snapshot {
         Snapshot {
             situation: self.now.clone(),
             step_size: self.integrator.as_ref().and_then(|i| i.step_size),
             lookahead: self.integrator.as_ref().and_then(|i| i.lookahead()),
+            jacobian: self.integrator.as_ref().and_then(|i| i.jacobian_point()),
+            after_time_event: self.integrator.as_ref().and_then(|i| i.after_time_event),
         }
     }
 
     /// Back to a saved situation; the caches are stale, and a Co-Simulation solver is made
-    /// afresh with the saved step size (continuing the saved step, if any).
+    /// afresh with the saved step size (continuing the saved step, if any; making the saved
+    /// Jacobian again, if any).
     pub(super) fn restore(&mut self, s: Snapshot) -> CallResult {
         self.now = s.situation;
         self.stale = true;
@@ -24,6 +28,10 @@ impl<M: Model> Instance<M> {
             if let Some(lookahead) = &s.lookahead {
                 integrator.resume_lookahead(lookahead, self.now.time, &self.now.values.states);
             }
+            if let Some(point) = &s.jacobian {
+                integrator.restore_jacobian(point);
+            }
+            integrator.after_time_event = s.after_time_event;
             self.integrator = Some(integrator);
         }
         Ok(())

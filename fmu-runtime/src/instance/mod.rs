@@ -209,9 +209,17 @@ impl<M: Model> Instance<M> {
         Self::for_interface(Interface::CoSimulation, guid, logger)
     }
 
+    /// An instance with declarations of its own (`Model::declare` runs): the runtime's tests
+    /// and tools. An FMU's instances share their library's (`shared`).
     pub fn for_interface(interface: Interface, guid: &'static str, logger: Logger) -> Self {
-        let (model, runtime, table) = crate::model::declare::<M>();
-        let (model, table) = (Arc::new(model), Arc::new(table));
+        Self::shared(interface, guid, logger, &crate::exported::Declared::new())
+    }
+
+    /// An instance of the library's one declaration of the model (`export_fmu!`'s, made once
+    /// per library): instantiating costs the instance's own values, O(variables), and never
+    /// runs `Model::declare` again.
+    pub fn shared(interface: Interface, guid: &'static str, logger: Logger, declared: &crate::exported::Declared<M>) -> Self {
+        let (model, runtime, table) = (Arc::clone(&declared.model), declared.runtime, Arc::clone(&declared.table));
         let now = Situation::at_instantiation(&table);
         let mut inst = Instance {
             interface,

@@ -2,6 +2,7 @@
 //! it, with the inputs held, moved along their derivatives, or extrapolated.
 
 use super::*;
+use crate::integrate::{just_above, just_below};
 
 /// How a communication step ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,10 +33,20 @@ impl<M: Model> Instance<M> {
 
     /// The solver made afresh for the current modes and values, continuing with `step_size` (the
     /// step size the previous one had reached: after an event, a mode switch or a restored state
-    /// the solver does not start over from a cautious first step).
+    /// the solver does not start over from a cautious first step), and knowing the time event
+    /// the instance's solver last ended at (when it has one: not while a step has it out).
     pub(super) fn remade_integrator(&self, step_size: Option<f64>) -> Result<Box<Integrator>, String> {
         let mut integrator = self.make_integrator()?;
         integrator.step_size = step_size;
+        integrator.after_time_event = self.integrator.as_ref().and_then(|i| i.after_time_event);
+        Ok(integrator)
+    }
+
+    /// The solver made afresh for the current modes, continuing from `old`'s step size and
+    /// time event.
+    fn remade_from(&self, old: &Integrator) -> Result<Box<Integrator>, String> {
+        let mut integrator = self.remade_integrator(old.step_size)?;
+        integrator.after_time_event = old.after_time_event;
         Ok(integrator)
     }
 
@@ -148,7 +159,7 @@ impl<M: Model> Instance<M> {
     /// the modes are those of `t` again (the step is discarded).
     pub(super) fn integrate(&mut self, t: f64, x: &mut [f64], t_end: f64, slopes: &[f64]) -> Result<Option<f64>, String> {
         let mut integrator = self.integrator.take().ok_or("the instance has no ODE solver (initialization did not finish)")?;
-        let step_size = integrator.step_size;
+        let (step_size, after_time_event) = (integrator.step_size, integrator.after_time_event);
         // Without modes, no integer changes in a step.
         let mut modes = std::mem::take(&mut self.buffers.modes);
         if self.has_modes {
@@ -157,10 +168,17 @@ impl<M: Model> Instance<M> {
         let curvatures = std::mem::take(&mut self.now.input_curvatures);
         let mut result = self.integrate_with(&mut integrator, t, x, t_end, slopes, &curvatures);
         self.now.input_curvatures = curvatures;
+        if result.is_err() {
+            // The instance stays at t: so does what the solver knows of a time event there.
+            integrator.after_time_event = after_time_event;
+        }
         if result.is_err() && self.has_modes && self.now.values.integers != modes {
             self.now.values.integers.copy_from_slice(&modes);
             match self.remade_integrator(step_size) {
-                Ok(made) => integrator = made,
+                Ok(mut made) => {
+                    made.after_time_event = after_time_event;
+                    integrator = made
+                }
                 Err(message) => result = Err(message),
             }
         }
@@ -178,9 +196,12 @@ impl<M: Model> Instance<M> {
         let settled = if self.has_modes && self.knowns_set { self.settle_modes(t, &known, x) } else { Ok((false, false)) };
         self.now.values.known = known;
         if settled?.0 {
-            *integrator = *self.remade_integrator(integrator.step_size)?;
+            *integrator = *self.remade_from(integrator)?;
         }
         let mut now = t;
+        // Whether `now` is a time event: the solver then starts just above it (see below).
+        let mut at_time_event = false;
+        let mut first = true;
         let (mut last_event, mut at_one_instant) = (f64::NEG_INFINITY, 0usize);
         // One budget of internal steps for the whole communication step, across its events.
         let mut budget = crate::integrate::MAX_INTERNAL_STEPS;
@@ -192,6 +213,13 @@ impl<M: Model> Instance<M> {
             // An event within rounding of the step's end is taken as the end (a master's
             // float time 9.999999999999897 s for an event at 10 s).
             let tiny = negligible_interval(t_end);
+            if first {
+                // A step that starts at the time event the last one ended at (or returned at to
+                // a master handling events) starts past it: the integrator knows (the model may
+                // no longer name that instant once its modes were updated there).
+                first = false;
+                at_time_event = integrator.after_time_event.is_some_and(|e| e <= now && now - e <= negligible_interval(now));
+            }
             let event = self.model.next_time_event(&k, now).filter(|e| *e > now);
             let next = match event {
                 Some(event) if event < t_end - tiny => event,
@@ -205,8 +233,53 @@ impl<M: Model> Instance<M> {
                 None => f64::INFINITY,
             };
             let limit = self.now.experiment.stop_time.map_or(limit, |stop| limit.min(stop)).max(next);
+            // The solver never evaluates the equations at a time event that starts or ends its
+            // segment, where they jump (whichever side the model puts the jump on, `t >= t_e` or
+            // `t > t_e`): a segment ending at one ends at the float just below it, one starting
+            // at one starts at the float just above it (x is continuous there; only f jumps).
+            // No step straddles the jump, and none has it in a stage.
+            let solver_end = match event {
+                Some(e) if e <= next => just_below(e),
+                _ => next,
+            };
+            let limit = if event == Some(limit) { just_below(limit) } else { limit }.max(solver_end);
+            let solver_start = if at_time_event { just_above(now) } else { now };
+            if at_time_event {
+                integrator.start_after_time_event(now);
+            }
             let knowns_set = std::mem::replace(&mut self.knowns_set, false);
-            let how = integrator.advance(&v.known, &motion, knowns_set, now, x, next, limit, &mut budget)?;
+            let how = if solver_end > solver_start {
+                let how = integrator.advance(&v.known, &motion, knowns_set, solver_start, x, solver_end, limit, &mut budget)?;
+                integrator.after_time_event = match (&how, event) {
+                    (Advanced::Reached, Some(e)) if solver_end != next => Some(e),
+                    _ => None,
+                };
+                how
+            } else {
+                // Nothing to integrate: the step ends at the time event it started at (it stays
+                // the one the solver last ended at), or the next one is a float away.
+                self.knowns_set |= knowns_set;
+                integrator.restart();
+                if solver_end != next {
+                    integrator.after_time_event = event;
+                }
+                Advanced::Reached
+            };
+            let how = match how {
+                Advanced::Reached if solver_end != next => {
+                    // It ended just below a time event: what follows starts afresh past it (the
+                    // stepper's last step, ending below the event, is not continued), and an
+                    // event indicator the model makes jump there is a state event at the
+                    // event (the solver, stopping short of it, saw none).
+                    integrator.restart();
+                    let e = event.expect("a segment ends below a time event only when there is one");
+                    match integrator.jump_at(solver_end, e, x) {
+                        Some(indicator) => Advanced::Crossing { time: e, indicator },
+                        None => how,
+                    }
+                }
+                how => how,
+            };
             match how {
                 Advanced::Reached if next == t_end => {
                     // A time event at the step's end is the master's to handle, when it does.
@@ -219,6 +292,7 @@ impl<M: Model> Instance<M> {
                         return Ok(Some(next));
                     }
                     now = next;
+                    at_time_event = true;
                 }
                 Advanced::Crossing { time, indicator } => {
                     if time - last_event <= negligible_interval(time) {
@@ -234,6 +308,8 @@ impl<M: Model> Instance<M> {
                         at_one_instant = 0;
                     }
                     last_event = time;
+                    // At a time event (an indicator that jumps there): what follows starts past it.
+                    at_time_event = event == Some(time);
                     self.logger.log(Status::Ok, &format!("state event at t = {time} s: '{}' crossed zero", self.table.indicators[indicator].0));
                     if let Some(counter) = self.runtime.state_events {
                         self.now.values.integers[counter.0] = self.now.values.integers[counter.0].saturating_add(1);
@@ -249,7 +325,7 @@ impl<M: Model> Instance<M> {
             let known = self.knowns_moved_to(now, t, slopes, curvatures);
             let (modes_changed, _) = self.settle_modes(now, &known, x)?;
             if modes_changed {
-                *integrator = *self.remade_integrator(integrator.step_size)?;
+                *integrator = *self.remade_from(integrator)?;
             }
         }
         Err(format!("more than {MAX_EVENTS_PER_STEP} events in one communication step"))

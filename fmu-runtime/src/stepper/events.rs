@@ -16,6 +16,9 @@ pub struct Events<'a> {
     pub g: &'a IndicatorDyn,
     pub p: &'a [f64],
     pub n: usize,
+    /// The instant at which the indicators at a fresh start are taken, when not the stepper's
+    /// start: the time event just below it.
+    pub start_at: Option<f64>,
 }
 
 impl Events<'_> {
@@ -53,7 +56,8 @@ pub fn step_until(stepper: &mut dyn Stepper, events: Option<&Events>, t1: f64, l
         return Ok((Advanced::Reached, true));
     }
     if let Some(ev) = events {
-        ev.into(t_now, y_now, z_prev);
+        let t_ref = if stepper.has_step() { t_now } else { ev.start_at.unwrap_or(t_now) };
+        ev.into(t_ref, y_now, z_prev);
     }
     while *budget > 0 {
         *budget -= 1;

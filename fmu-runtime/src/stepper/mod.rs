@@ -16,6 +16,7 @@
 pub mod events;
 pub mod explicit;
 pub mod implicit;
+pub mod jacobian;
 
 use diffsol::ode_solver::state::StateCommon;
 use diffsol::{OdeSolverProblem, OdeSolverState, RkState, Vector};
@@ -57,8 +58,26 @@ pub struct Setup<'a> {
     pub rtol: f64,
     /// Per state.
     pub atol: &'a [f64],
+    /// Per state: its nominal value (a typical magnitude, > 0).
+    pub nominals: &'a [f64],
     /// The indices of the activity states (integrals of |power| dt).
     pub activities: &'a [usize],
+    /// What the structure of the model's Jacobian is cached under
+    /// ([`jacobian::structure`]).
+    pub structure: &'a jacobian::StructureKey,
+}
+
+/// Where a method's kept Jacobian was evaluated, and the h gamma its Newton matrix
+/// I - h gamma J was factorized with: what an FMU state carries so that a restored instance
+/// makes the same matrix again (bit for bit: the Jacobian is a deterministic function of the
+/// point) and continues as the live one does.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JacobianPoint {
+    pub t: f64,
+    pub x: Vec<f64>,
+    /// The solver's parameter vector (knowns and their motion) it was evaluated with.
+    pub parameters: Vec<f64>,
+    pub h_gamma: f64,
 }
 
 /// How an advance ended: how (reached or stopped at a crossing), and whether the next advance may
@@ -86,6 +105,15 @@ pub trait Method: Send + Sync {
     fn resume(&mut self, _step: &StepRecord, _h: f64) -> bool {
         false
     }
+
+    /// Where the Jacobian the next advance would use was evaluated, for an FMU state to carry;
+    /// None for a method that keeps none between advances.
+    fn saved_jacobian(&self) -> Option<JacobianPoint> {
+        None
+    }
+
+    /// Makes the Jacobian of a saved point again before the next advance (a restored state).
+    fn restore_jacobian(&mut self, _point: &JacobianPoint) {}
 }
 
 /// One method's stepping over one advance, as [`events::step_until`] drives it.

@@ -1,0 +1,585 @@
+//! The implicit method's Jacobian df/dx and its linear solves: the Jacobian's structure (which
+//! derivative depends on which state), its assembly, and the factorization of the Newton matrix
+//! I - h gamma J, dense for small models and sparse (faer's LU) for large ones.
+//!
+//! Structure: the states-only dependencies of the derivatives, found by probing the right-hand
+//! side ([`probe`]: each state perturbed alone, n + 1 evaluations) once per library and
+//! configuration of the integer and boolean values ([`structure`], the one place to point at
+//! another source, such as the ModelStructure's derivative dependencies once they are made
+//! once per library). Its columns are grouped by a greedy coloring (no two columns of a group
+//! share a row), so that the Jacobian costs one evaluation per color, not one per state.
+//!
+//! Assembly ([`evaluate`], the one function an exact Jacobian would replace): forward differences,
+//! one grouped perturbation per color.
+//!
+//! Dense or sparse: below [`DENSE_BELOW`] states the Newton matrix is a dense n x n matrix (every
+//! column perturbed on its own, no probe, LU with partial pivoting); from there on, the probed
+//! pattern in compressed columns, faer's sparse LU (fill-reducing column ordering and symbolic
+//! analysis once per structure, a numeric factorization each time the matrix changes), and no
+//! states x states matrix anywhere. A probed pattern denser than [`DENSE_ABOVE_FILL`] falls back to dense.
+//!
+//! Everything is deterministic: the same (t, x, parameters, h gamma) give the same factors bit for
+//! bit (faer runs sequentially here), which an FMU state's restore relies on
+//! (`stepper::JacobianPoint`).
+
+use std::any::TypeId;
+use std::sync::{Arc, Mutex};
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::perm::PermRef;
+use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par};
+
+/// Dense below this many states, sparse from it on. Measured on the stiff torsional chain
+/// (bench/torsional-chain, J = 1e-4, K = 1e5, D = 10, a 100 N m torque step at 0.1 s; us per
+/// 1 ms doStep over 1 s at rtol 1e-8, in-process, on the shared 2-core machine): see
+/// `DENSE_BELOW_MEASURED`.
+pub const DENSE_BELOW: usize = 20;
+
+/// The measurement behind [`DENSE_BELOW`]: (states, us per doStep dense, us per doStep sparse).
+pub const DENSE_BELOW_MEASURED: &[(usize, f64, f64)] = &[];
+
+/// A probed pattern with more than this fraction of its n^2 entries set is factorized dense.
+pub const DENSE_ABOVE_FILL: f64 = 0.25;
+
+/// What a Jacobian's structure is cached under, within one library: the model (type), its
+/// integer and boolean values (parameters and discrete modes: they may change the equations'
+/// dependencies), the number of states.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StructureKey {
+    pub model: TypeId,
+    pub integers: Vec<i32>,
+    pub booleans: Vec<bool>,
+    pub n: usize,
+}
+
+/// The Jacobian's structure: its pattern in compressed sparse columns (the diagonal always in
+/// it, rows ascending in each column), its columns grouped by color, and for the sparse path
+/// the column ordering of its LU.
+pub struct Structure {
+    pub n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// The columns of color c: `color_cols[color_ptr[c]..color_ptr[c + 1]]`.
+    color_ptr: Vec<usize>,
+    color_cols: Vec<usize>,
+    /// Where the diagonal entry of each column sits in `row_idx`.
+    diagonal: Vec<usize>,
+    /// The sparse LU's column ordering (forward, inverse); None: dense (the pattern is full,
+    /// column-major).
+    ordering: Option<(Vec<usize>, Vec<usize>)>,
+}
+
+impl Structure {
+    /// The full n x n pattern, each column its own color: dense.
+    pub fn dense(n: usize) -> Structure {
+        let col_ptr = (0..=n).map(|j| j * n).collect();
+        let row_idx = (0..n * n).map(|k| k % n).collect();
+        let color_ptr = (0..=n).collect();
+        let color_cols = (0..n).collect();
+        let diagonal = (0..n).map(|j| j * n + j).collect();
+        Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, ordering: None }
+    }
+
+    /// A sparse structure from each column's rows (any order, the diagonal added): colored, and
+    /// analysed for faer's LU; dense when the pattern fills more than [`DENSE_ABOVE_FILL`].
+    pub fn sparse(n: usize, mut columns: Vec<Vec<usize>>) -> Result<Structure, String> {
+        for (j, rows) in columns.iter_mut().enumerate() {
+            rows.push(j);
+            rows.sort_unstable();
+            rows.dedup();
+        }
+        let nnz: usize = columns.iter().map(Vec::len).sum();
+        if nnz as f64 > DENSE_ABOVE_FILL * (n * n) as f64 {
+            return Ok(Structure::dense(n));
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(nnz);
+        let mut diagonal = Vec::with_capacity(n);
+        col_ptr.push(0);
+        for (j, rows) in columns.iter().enumerate() {
+            let at = rows.binary_search(&j).expect("the diagonal was added");
+            diagonal.push(row_idx.len() + at);
+            row_idx.extend_from_slice(rows);
+            col_ptr.push(row_idx.len());
+        }
+        drop(columns);
+        let (color_ptr, color_cols) = color(n, &col_ptr, &row_idx);
+        let mut s = Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, ordering: None };
+        // The column ordering: faer's COLAMD, or the reverse Cuthill-McKee ordering of the
+        // symmetrized pattern where that fills strictly less in a trial factorization (a band
+        // numbered across, which COLAMD may not narrow). On the stiff chain both fill the same
+        // (5n in the trial, 7n in the Newton matrix's factors), and COLAMD's solves are 3.4
+        // times faster: RCM's order runs them through subnormal numbers (the chain's end at
+        // rest; with flush-to-zero both take the same time).
+        let colamd = {
+            let a = SymbolicSparseColMatRef::new_checked(n, n, &s.col_ptr, None, &s.row_idx);
+            let symbolic = factorize_symbolic_lu(a, LuSymbolicParams::default()).map_err(|e| format!("the sparse LU's ordering failed: {e:?}"))?;
+            let (fwd, inv) = symbolic.col_perm().arrays();
+            (fwd.to_vec(), inv.to_vec())
+        };
+        let rcm = reverse_cuthill_mckee(n, &s.col_ptr, &s.row_idx);
+        let mut best: Option<((Vec<usize>, Vec<usize>), usize)> = None;
+        for ordering in [colamd, rcm] {
+            s.ordering = Some(ordering);
+            let fill = s.trial_fill()?;
+            if best.as_ref().map_or(true, |(_, f)| fill < *f) {
+                best = Some((s.ordering.take().expect("set above"), fill));
+            }
+        }
+        s.ordering = best.map(|(o, _)| o);
+        Ok(s)
+    }
+
+    /// Entries of L and U of a matrix with this pattern whose diagonal dominates, factorized
+    /// with this structure's ordering.
+    fn trial_fill(&self) -> Result<usize, String> {
+        let values: Vec<f64> = (0..self.n)
+            .flat_map(|j| (self.col_ptr[j]..self.col_ptr[j + 1]).map(move |k| (j, k)))
+            .map(|(j, k)| if self.row_idx[k] == j { 4.0 } else { 0.1 + 0.01 * (k % 7) as f64 })
+            .collect();
+        let mut f = Factors::new(self);
+        f.factor_values(self, &values)?;
+        match f {
+            Factors::Sparse { lu, .. } => Ok(lu.l_factor_unsorted().row_idx().len() + lu.u_factor_unsorted().row_idx().len()),
+            Factors::Dense { .. } => Ok(self.n * self.n),
+        }
+    }
+
+    /// Entries of the pattern (n^2 when dense).
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Evaluations of the right-hand side one Jacobian costs (besides f(t, x) itself).
+    pub fn colors(&self) -> usize {
+        self.color_ptr.len() - 1
+    }
+
+    pub fn is_dense(&self) -> bool {
+        self.ordering.is_none()
+    }
+}
+
+/// Greedy coloring of the columns in their order: a column takes the smallest color no column
+/// sharing a row with it has. Returns the columns grouped by color (CSR-like).
+fn color(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    // The pattern by rows: the columns of each row.
+    let mut row_ptr = vec![0usize; n + 1];
+    for &i in row_idx {
+        row_ptr[i + 1] += 1;
+    }
+    for i in 0..n {
+        row_ptr[i + 1] += row_ptr[i];
+    }
+    let mut fill = row_ptr.clone();
+    let mut row_cols = vec![0usize; row_idx.len()];
+    for j in 0..n {
+        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+            row_cols[fill[i]] = j;
+            fill[i] += 1;
+        }
+    }
+    let mut color_of = vec![usize::MAX; n];
+    // forbidden[c] == j: color c is taken by a neighbour of column j.
+    let mut forbidden: Vec<usize> = Vec::new();
+    let mut n_colors = 0;
+    for j in 0..n {
+        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+            for &k in &row_cols[row_ptr[i]..row_ptr[i + 1]] {
+                let c = color_of[k];
+                if c != usize::MAX {
+                    forbidden[c] = j;
+                }
+            }
+        }
+        let c = (0..n_colors).find(|c| forbidden[*c] != j).unwrap_or_else(|| {
+            n_colors += 1;
+            forbidden.push(usize::MAX);
+            n_colors - 1
+        });
+        color_of[j] = c;
+    }
+    let mut color_ptr = vec![0usize; n_colors + 1];
+    for &c in &color_of {
+        color_ptr[c + 1] += 1;
+    }
+    for c in 0..n_colors {
+        color_ptr[c + 1] += color_ptr[c];
+    }
+    let mut fill = color_ptr.clone();
+    let mut color_cols = vec![0usize; n];
+    for (j, &c) in color_of.iter().enumerate() {
+        color_cols[fill[c]] = j;
+        fill[c] += 1;
+    }
+    (color_ptr, color_cols)
+}
+
+/// The reverse Cuthill-McKee ordering of the symmetrized pattern (forward, inverse): a
+/// breadth-first search from a vertex of least degree in each connected part, the neighbours
+/// of each vertex visited by increasing degree, reversed.
+fn reverse_cuthill_mckee(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for j in 0..n {
+        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+            if i != j {
+                neighbours[i].push(j);
+                neighbours[j].push(i);
+            }
+        }
+    }
+    for v in &mut neighbours {
+        v.sort_unstable();
+        v.dedup();
+    }
+    let degree: Vec<usize> = neighbours.iter().map(Vec::len).collect();
+    let mut by_degree: Vec<usize> = (0..n).collect();
+    by_degree.sort_by_key(|v| (degree[*v], *v));
+    let mut order = Vec::with_capacity(n);
+    let mut seen = vec![false; n];
+    for &root in &by_degree {
+        if seen[root] {
+            continue;
+        }
+        seen[root] = true;
+        let mut head = order.len();
+        order.push(root);
+        while head < order.len() {
+            let v = order[head];
+            head += 1;
+            let mut next: Vec<usize> = neighbours[v].iter().copied().filter(|u| !seen[*u]).collect();
+            next.sort_by_key(|u| (degree[*u], *u));
+            for u in next {
+                seen[u] = true;
+                order.push(u);
+            }
+        }
+    }
+    order.reverse();
+    let mut inverse = vec![0; n];
+    for (k, &v) in order.iter().enumerate() {
+        inverse[v] = k;
+    }
+    (order, inverse)
+}
+
+/// The right-hand side as the Jacobian sees it: f(y, t) into dy, with the advance's parameters.
+pub type Rhs<'a> = &'a dyn Fn(&[f64], f64, &mut [f64]);
+
+/// The states-only dependencies of the derivatives, by probing: at a point moved off (t, x) (so
+/// that a product of two states at zero hides nothing), each state perturbed alone; a derivative
+/// whose value changes (bit for bit) depends on it. n + 1 evaluations of the right-hand side.
+/// A derivative that is not finite at the probe point depends on every state.
+pub fn probe(rhs: Rhs, t: f64, x: &[f64], scale: &[f64]) -> Vec<Vec<usize>> {
+    let n = x.len();
+    let mut x0: Vec<f64> = (0..n).map(|j| x[j] + 0.0173 * (1.0 + 0.1 * (j % 7) as f64) * (x[j].abs() + scale[j])).collect();
+    let mut f0 = vec![0.0; n];
+    rhs(&x0, t, &mut f0);
+    let mut f1 = vec![0.0; n];
+    let mut columns = vec![Vec::new(); n];
+    let unknown: Vec<usize> = (0..n).filter(|i| !f0[*i].is_finite()).collect();
+    for j in 0..n {
+        let xj = x0[j];
+        x0[j] = xj + 1e-3 * (xj.abs() + scale[j]);
+        rhs(&x0, t, &mut f1);
+        x0[j] = xj;
+        columns[j].extend((0..n).filter(|i| f1[*i].to_bits() != f0[*i].to_bits() && f0[*i].is_finite()));
+        columns[j].extend_from_slice(&unknown);
+    }
+    columns
+}
+
+/// The cached structures of this library (one model per library; a few configurations).
+static STRUCTURES: Mutex<Vec<(StructureKey, Arc<Structure>)>> = Mutex::new(Vec::new());
+
+/// The Jacobian's structure for `key`: dense below [`DENSE_BELOW`] states; else the cached one,
+/// or one made from `columns` (each state's dependent derivatives: [`probe`]) and cached. The one
+/// place that says where the dependencies come from.
+pub fn structure(key: &StructureKey, columns: impl FnOnce() -> Vec<Vec<usize>>) -> Result<Arc<Structure>, String> {
+    if key.n < DENSE_BELOW {
+        return Ok(Arc::new(Structure::dense(key.n)));
+    }
+    if let Some((_, s)) = STRUCTURES.lock().unwrap_or_else(|e| e.into_inner()).iter().find(|(k, _)| k == key) {
+        return Ok(Arc::clone(s));
+    }
+    let made = Arc::new(Structure::sparse(key.n, columns())?);
+    let mut cache = STRUCTURES.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, s)) = cache.iter().find(|(k, _)| k == key) {
+        return Ok(Arc::clone(s));
+    }
+    cache.push((key.clone(), Arc::clone(&made)));
+    Ok(made)
+}
+
+/// Work vectors of [`evaluate`].
+#[derive(Default)]
+pub struct Work {
+    x: Vec<f64>,
+    f: Vec<f64>,
+    delta: Vec<f64>,
+}
+
+/// df/dx at (t, x), where f(t, x) = `f0`, into `values` (the structure's entries, column by
+/// column): forward differences, one grouped perturbation per color (state j moved by
+/// sqrt(eps) max(|x_j|, scale_j)). The one source of the implicit method's Jacobian: exact
+/// derivatives (automatic differentiation) would replace this body.
+pub fn evaluate(s: &Structure, rhs: Rhs, t: f64, x: &[f64], f0: &[f64], scale: &[f64], values: &mut [f64], work: &mut Work) {
+    let n = s.n;
+    let Work { x: xp, f, delta } = work;
+    xp.clear();
+    xp.extend_from_slice(x);
+    f.resize(n, 0.0);
+    delta.resize(n, 0.0);
+    let root_eps = f64::EPSILON.sqrt();
+    for c in 0..s.colors() {
+        let cols = &s.color_cols[s.color_ptr[c]..s.color_ptr[c + 1]];
+        for &j in cols {
+            let moved = x[j] + root_eps * x[j].abs().max(scale[j]);
+            // The step actually taken, exactly representable.
+            delta[j] = moved - x[j];
+            xp[j] = moved;
+        }
+        rhs(xp, t, f);
+        for &j in cols {
+            xp[j] = x[j];
+            let inv = 1.0 / delta[j];
+            for k in s.col_ptr[j]..s.col_ptr[j + 1] {
+                let i = s.row_idx[k];
+                values[k] = (f[i] - f0[i]) * inv;
+            }
+        }
+    }
+}
+
+/// The factors of the Newton matrix I - h gamma J, for solving with it.
+pub enum Factors {
+    /// LU with partial pivoting of the dense matrix (column-major) and the row swaps.
+    Dense { lu: Vec<f64>, swaps: Vec<usize> },
+    /// faer's simplicial LU (left-looking, partial pivoting) with the structure's column
+    /// ordering, its row pivoting (forward, inverse), the matrix's values and the work space.
+    Sparse { lu: SimplicialLu<usize, f64>, rows: (Vec<usize>, Vec<usize>), values: Vec<f64>, mem: MemBuffer },
+}
+
+impl Factors {
+    pub fn new(s: &Structure) -> Factors {
+        match &s.ordering {
+            None => Factors::Dense { lu: vec![0.0; s.n * s.n], swaps: vec![0; s.n] },
+            Some(_) => {
+                let req = StackReq::any_of(&[
+                    simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(s.n, s.n),
+                    simplicial::solve_in_place_scratch::<usize, f64>(s.n, 1, Par::Seq),
+                ]);
+                Factors::Sparse { lu: SimplicialLu::new(), rows: (vec![0; s.n], vec![0; s.n]), values: vec![0.0; s.nnz()], mem: MemBuffer::new(req) }
+            }
+        }
+    }
+
+    /// Factorizes I - `hg` J, J's entries in `jac` (the structure's order). Err when singular.
+    pub fn factor(&mut self, s: &Structure, jac: &[f64], hg: f64) -> Result<(), String> {
+        match self {
+            Factors::Dense { lu, swaps } => {
+                let n = s.n;
+                for (m, j) in lu.iter_mut().zip(jac) {
+                    *m = -hg * j;
+                }
+                for k in 0..n {
+                    lu[k * n + k] += 1.0;
+                }
+                dense_lu(n, lu, swaps)
+            }
+            Factors::Sparse { values, .. } => {
+                for (m, j) in values.iter_mut().zip(jac) {
+                    *m = -hg * j;
+                }
+                for &k in &s.diagonal {
+                    values[k] += 1.0;
+                }
+                self.factor_own_values(s)
+            }
+        }
+    }
+
+    /// Factorizes the matrix of these entries (the structure's order): a sparse structure only.
+    fn factor_values(&mut self, s: &Structure, matrix: &[f64]) -> Result<(), String> {
+        if let Factors::Sparse { values, .. } = self {
+            values.copy_from_slice(matrix);
+        }
+        self.factor_own_values(s)
+    }
+
+    fn factor_own_values(&mut self, s: &Structure) -> Result<(), String> {
+        let (Factors::Sparse { lu, rows, values, mem }, Some((fwd, inv))) = (self, &s.ordering) else {
+            return Err("not a sparse factorization".into());
+        };
+        let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(s.n, s.n, &s.col_ptr, None, &s.row_idx), values);
+        simplicial::factorize_simplicial_numeric_lu(&mut rows.0, &mut rows.1, lu, a, PermRef::new_checked(fwd, inv, s.n), MemStack::new(mem))
+            .map_err(|e| format!("the Newton matrix is singular ({e:?})"))
+    }
+
+    /// b := (I - h gamma J)^-1 b with the last factors.
+    pub fn solve(&mut self, s: &Structure, b: &mut [f64]) {
+        match (self, &s.ordering) {
+            (Factors::Dense { lu, swaps }, _) => dense_solve(s.n, lu, swaps, b),
+            (Factors::Sparse { lu, rows, mem, .. }, Some((fwd, inv))) => {
+                let n = b.len();
+                lu.solve_in_place_with_conj(
+                    PermRef::new_checked(&rows.0, &rows.1, n),
+                    PermRef::new_checked(fwd, inv, n),
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(b, n, 1),
+                    Par::Seq,
+                    MemStack::new(mem),
+                );
+            }
+            (Factors::Sparse { .. }, None) => unreachable!("a sparse factorization has an ordering"),
+        }
+    }
+}
+
+/// LU with partial pivoting, in place (column-major n x n), the row swapped with each row k in
+/// `swaps[k]`. Err when a pivot is zero or not finite.
+fn dense_lu(n: usize, a: &mut [f64], swaps: &mut [usize]) -> Result<(), String> {
+    for k in 0..n {
+        let col = &a[k * n..(k + 1) * n];
+        let mut p = k;
+        let mut best = col[k].abs();
+        for (i, v) in col.iter().enumerate().skip(k + 1) {
+            if v.abs() > best {
+                best = v.abs();
+                p = i;
+            }
+        }
+        if !(best > 0.0 && best.is_finite()) {
+            return Err(format!("the Newton matrix is singular (pivot {k} of {n})"));
+        }
+        swaps[k] = p;
+        if p != k {
+            for j in 0..n {
+                a.swap(j * n + k, j * n + p);
+            }
+        }
+        let inv = 1.0 / a[k * n + k];
+        for v in &mut a[k * n + k + 1..(k + 1) * n] {
+            *v *= inv;
+        }
+        let (left, right) = a.split_at_mut((k + 1) * n);
+        let lk = &left[k * n + k + 1..(k + 1) * n];
+        for j in k + 1..n {
+            let cj = &mut right[(j - k - 1) * n..(j - k) * n];
+            let ukj = cj[k];
+            if ukj != 0.0 {
+                for (v, l) in cj[k + 1..].iter_mut().zip(lk) {
+                    *v -= l * ukj;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn dense_solve(n: usize, lu: &[f64], swaps: &[usize], b: &mut [f64]) {
+    for k in 0..n {
+        b.swap(k, swaps[k]);
+    }
+    // L y = b (unit lower), column by column.
+    for k in 0..n {
+        let bk = b[k];
+        if bk != 0.0 {
+            for (v, l) in b[k + 1..].iter_mut().zip(&lu[k * n + k + 1..(k + 1) * n]) {
+                *v -= l * bk;
+            }
+        }
+    }
+    // U x = y, column by column from the last.
+    for k in (0..n).rev() {
+        b[k] /= lu[k * n + k];
+        let bk = b[k];
+        if bk != 0.0 {
+            for (v, u) in b[..k].iter_mut().zip(&lu[k * n..k * n + k]) {
+                *v -= u * bk;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// f = A x for a fixed banded-with-a-corner A; its Jacobian is A.
+    fn matrix(n: usize) -> Vec<Vec<f64>> {
+        let mut a = vec![vec![0.0; n]; n];
+        for i in 0..n {
+            a[i][i] = -3.0 - i as f64;
+            if i + 1 < n {
+                a[i][i + 1] = 1.5;
+                a[i + 1][i] = 0.5 * (i as f64 + 1.0);
+            }
+        }
+        a[n - 1][0] = 2.0;
+        a
+    }
+
+    fn apply(a: &[Vec<f64>], x: &[f64], y: &mut [f64]) {
+        for (i, row) in a.iter().enumerate() {
+            y[i] = row.iter().zip(x).map(|(r, v)| r * v).sum();
+        }
+    }
+
+    #[test]
+    fn colored_differences_and_both_factorizations_solve_the_newton_system() {
+        let n = 40;
+        let a = matrix(n);
+        let rhs = |x: &[f64], _t: f64, y: &mut [f64]| apply(&a, x, y);
+        let x: Vec<f64> = (0..n).map(|i| 0.3 + i as f64).collect();
+        let scale = vec![1.0; n];
+        let mut f0 = vec![0.0; n];
+        rhs(&x, 0.0, &mut f0);
+        let sparse = Structure::sparse(n, probe(&rhs, 0.0, &x, &scale)).unwrap();
+        assert!(!sparse.is_dense());
+        assert_eq!(sparse.nnz(), 3 * n - 2 + 1);
+        assert!(sparse.colors() <= 4, "{} colors", sparse.colors());
+        let dense = Structure::dense(n);
+        let b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        let hg = 0.37;
+        let mut solutions = Vec::new();
+        for s in [&sparse, &dense] {
+            let mut jac = vec![0.0; s.nnz()];
+            evaluate(s, &rhs, 0.0, &x, &f0, &scale, &mut jac, &mut Work::default());
+            for j in 0..n {
+                for k in s.col_ptr[j]..s.col_ptr[j + 1] {
+                    let i = s.row_idx[k];
+                    assert!((jac[k] - a[i][j]).abs() < 1e-6 * (1.0 + a[i][j].abs()), "J[{i}][{j}] = {} for {}", jac[k], a[i][j]);
+                }
+            }
+            let mut f = Factors::new(s);
+            f.factor(s, &jac, hg).unwrap();
+            let mut z = b.clone();
+            f.solve(s, &mut z);
+            // (I - hg J) z = b, J as assembled
+            let mut jz = vec![0.0; n];
+            for j in 0..n {
+                for k in s.col_ptr[j]..s.col_ptr[j + 1] {
+                    jz[s.row_idx[k]] += jac[k] * z[j];
+                }
+            }
+            for i in 0..n {
+                assert!((z[i] - hg * jz[i] - b[i]).abs() < 1e-12, "row {i}: {}", z[i] - hg * jz[i] - b[i]);
+            }
+            solutions.push(z);
+        }
+        for (s, d) in solutions[0].iter().zip(&solutions[1]) {
+            assert!((s - d).abs() < 1e-12 * (1.0 + d.abs()), "{s} {d}");
+        }
+    }
+
+    #[test]
+    fn a_dense_pattern_is_factorized_dense() {
+        let n = 6;
+        let columns = vec![(0..n).collect::<Vec<_>>(); n];
+        assert!(Structure::sparse(n, columns).unwrap().is_dense());
+    }
+}
