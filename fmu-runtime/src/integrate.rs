@@ -48,6 +48,7 @@ use diffsol::{
 };
 
 use crate::model::{Model, Solver};
+use crate::real::{Dual, Real};
 use crate::rk::StepRecord;
 use crate::stepper::events::{step_until, Ends, Events, RootScratch};
 use crate::stepper::jacobian::StructureKey;
@@ -306,6 +307,62 @@ fn rhs_of<M: Model>(model: Arc<M>, integers: Arc<[i32]>, booleans: Arc<[bool]>, 
     }
 }
 
+/// The right-hand side over the scalars the implicit method's Jacobian is made with
+/// (docs/DESIGN.md, "Exact derivatives"): dual numbers for its entries, exact to round-off, and
+/// traces for its structure, both from the model's own equations.
+pub trait ExactRhs: Send + Sync {
+    /// dx = f(t, x) over dual numbers, the parameter vector `p` held: with x seeded along a
+    /// direction v, the derivative parts of dx are J v.
+    fn dual(&self, x: &[Dual], p: &[f64], t: f64, dx: &mut [Dual]);
+    /// For each state j, the derivatives that depend on it at (t, x): one evaluation over
+    /// [`Trace`](crate::trace::Trace). A derivative that is not finite there depends on every state.
+    fn columns(&self, x: &[f64], p: &[f64], t: f64) -> Vec<Vec<usize>>;
+}
+
+/// A model's equations as an [`ExactRhs`].
+struct ModelRhs<M> {
+    model: Arc<M>,
+    integers: Arc<[i32]>,
+    booleans: Arc<[bool]>,
+    n_known: usize,
+    signed_activities: bool,
+}
+
+impl<M: Model> ModelRhs<M> {
+    fn evaluate<R: Real>(&self, x: &[R], p: &[f64], t: f64, dx: &mut [R]) {
+        dx.fill(R::from(0.0));
+        knowns_at(p, self.n_known, t, |known| {
+            let known: Vec<R> = known.iter().map(|&k| R::from(k)).collect();
+            let mut der = if self.signed_activities { Derivatives::with_signed_activities(dx) } else { Derivatives::new(dx) };
+            self.model.derivatives(&Knowns::new(t, &known, x, &self.integers, &self.booleans), &mut der)
+        })
+    }
+}
+
+impl<M: Model> ExactRhs for ModelRhs<M> {
+    fn dual(&self, x: &[Dual], p: &[f64], t: f64, dx: &mut [Dual]) {
+        self.evaluate(x, p, t, dx)
+    }
+
+    fn columns(&self, x: &[f64], p: &[f64], t: f64) -> Vec<Vec<usize>> {
+        let tracing = crate::trace::Tracing::start();
+        let traced: Vec<crate::trace::Trace> = x.iter().enumerate().map(|(j, &v)| tracing.known(j as u32, v)).collect();
+        let mut dx = vec![crate::trace::Trace::from(0.0); x.len()];
+        self.evaluate(&traced, p, t, &mut dx);
+        let mut columns = vec![Vec::new(); x.len()];
+        for (i, d) in dx.iter().enumerate() {
+            if d.value().is_finite() {
+                for j in tracing.dependencies(*d) {
+                    columns[j as usize].push(i);
+                }
+            } else {
+                columns.iter_mut().for_each(|c| c.push(i));
+            }
+        }
+        columns
+    }
+}
+
 /// The event indicators z(t, x) of a model, with the parameter vector of `parameters`.
 fn indicators_of<M: Model>(model: Arc<M>, integers: Arc<[i32]>, booleans: Arc<[bool]>, n_known: usize) -> impl Fn(&[f64], &[f64], f64, &mut [f64]) {
     move |x: &[f64], p: &[f64], t: f64, z: &mut [f64]| {
@@ -347,6 +404,8 @@ pub struct Integrator {
     /// made from it, and every method takes its first step size from it.
     problem: OdeSolverProblem<Equations>,
     rhs: RhsFn,
+    /// The same equations over dual numbers and traces: the implicit method's Jacobian.
+    exact: Arc<dyn ExactRhs>,
     /// The model's event indicators, with the modes fixed when this integrator was made.
     indicators: Option<IndicatorFn>,
     n_indicators: usize,
@@ -401,13 +460,14 @@ impl Integrator {
     ) -> Result<Self, String> {
         let atol: Vec<f64> = nominals.iter().map(|n| ABSOLUTE_PER_RELATIVE * rtol * n.abs().max(f64::MIN_POSITIVE)).collect();
         let structure = StructureKey { model: std::any::TypeId::of::<M>(), integers: integers.to_vec(), booleans: booleans.to_vec(), n: n_states };
-        let method = stepper::make(method, &Setup { n_states, rtol, atol: &atol, nominals, activities, structure: &structure });
+        let method = stepper::make(method, &Setup { n_states, rtol, atol: &atol, activities, structure: &structure });
         let integers: Arc<[i32]> = integers.into();
         let booleans: Arc<[bool]> = booleans.into();
         let indicators = (n_indicators > 0)
             .then(|| Box::new(indicators_of(model.clone(), integers.clone(), booleans.clone(), known.len())) as IndicatorFn);
         // A method that integrates activities as quadratures gets their signed power.
         let quadratures = method.integrates_activities();
+        let exact: Arc<dyn ExactRhs> = Arc::new(ModelRhs { model: model.clone(), integers: integers.clone(), booleans: booleans.clone(), n_known: known.len(), signed_activities: quadratures });
         let f = rhs_of(model, integers, booleans, known.len(), quadratures);
         let f_jac = f.clone();
         // Jacobian-vector product by a forward difference along v (exact Jacobians come with
@@ -447,6 +507,7 @@ impl Integrator {
         Ok(Integrator {
             problem,
             rhs,
+            exact,
             indicators,
             n_indicators,
             n_known: known.len(),
@@ -587,9 +648,9 @@ impl Integrator {
         // A moving input's motion is only the master's word for this communication step.
         let moving = self.p[3 * self.n_known + 1] != 0.0;
         let indicators_at = self.indicators_at.take();
-        let Integrator { problem, rhs, indicators, n_indicators, method, rtol, atol, p, quadrature, reached, y_end, z, z_prev, roots, step_size, .. } = self;
+        let Integrator { problem, rhs, exact, indicators, n_indicators, method, rtol, atol, p, quadrature, reached, y_end, z, z_prev, roots, step_size, .. } = self;
         let (rhs, p, reached): (&RhsDyn, &[f64], f64) = (&**rhs, p, *reached);
-        let ode = Ode { problem, rhs, p, atol, rtol: *rtol };
+        let ode = Ode { problem, rhs, exact: &**exact, p, atol, rtol: *rtol };
         let events = indicators.as_ref().map(|g| Events { g: &**g, p, n: *n_indicators, start_at: indicators_at });
         method.with_stepper(ode, &mut |stepper: &mut dyn Stepper| {
             let looks_ahead = stepper.looks_ahead() && !moving;

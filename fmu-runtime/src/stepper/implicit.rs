@@ -37,7 +37,7 @@ use super::{JacobianPoint, Method, Ode, Outcome, Registration, Setup, Stepper};
 /// [`Solver::ImplicitRungeKutta`](crate::model::Solver::ImplicitRungeKutta).
 pub static ESDIRK_34: Registration = Registration {
     description: "singly diagonally implicit Runge-Kutta ESDIRK3(2) (the stages of diffsol's <code>esdirk34</code>, an L-stable \
-                  second-order error estimate; Newton iteration with a kept Jacobian by colored finite differences, dense or sparse LU)",
+                  second-order error estimate; Newton iteration with a kept exact Jacobian (dual numbers, by colors), dense or sparse LU)",
     make: |s| Box::new(Esdirk34::new(s)),
 };
 
@@ -155,8 +155,6 @@ struct Esdirk34 {
     k: Coefficients,
     rtol: f64,
     atol: Vec<f64>,
-    /// Each state's typical magnitude: the finite differences' scale.
-    nominals: Vec<f64>,
     key: StructureKey,
     /// Made at the first Jacobian.
     structure: Option<Arc<Structure>>,
@@ -203,7 +201,6 @@ impl Esdirk34 {
             k: Coefficients::esdirk34(),
             rtol: s.rtol,
             atol: s.atol.to_vec(),
-            nominals: s.nominals.iter().map(|v| v.abs().max(f64::MIN_POSITIVE)).collect(),
             key: s.structure.clone(),
             structure: None,
             jac: Vec::new(),
@@ -234,16 +231,15 @@ impl Esdirk34 {
     /// Evaluates the Jacobian at (t, y) with the advance's parameters (its structure made on
     /// the first call); the factors are stale until [`factor`](Self::factor).
     fn evaluate_jacobian(&mut self, ode: &Ode, t: f64, y: &[f64]) -> Result<(), String> {
-        let rhs = |x: &[f64], t: f64, dx: &mut [f64]| ode.rhs(x, t, dx);
         if self.structure.is_none() {
-            let s = jacobian::structure(&self.key, || jacobian::probe(&rhs, t, y, &self.nominals))?;
+            let s = jacobian::structure(&self.key, || ode.exact.columns(y, ode.p, t))?;
             self.jac = vec![0.0; s.nnz()];
             self.factors = Some(Factors::new(&s));
             self.structure = Some(s);
         }
         let s = self.structure.as_ref().expect("made above");
-        ode.rhs(y, t, &mut self.f);
-        jacobian::evaluate(s, &rhs, t, y, &self.f, &self.nominals, &mut self.jac, &mut self.jac_work);
+        let rhs = |x: &[crate::real::Dual], t: f64, dx: &mut [crate::real::Dual]| ode.exact.dual(x, ode.p, t, dx);
+        jacobian::evaluate(s, &rhs, t, y, &mut self.jac, &mut self.jac_work);
         match &mut self.jac_point {
             Some(p) => {
                 p.t = t;

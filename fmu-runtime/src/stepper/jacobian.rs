@@ -2,15 +2,14 @@
 //! derivative depends on which state), its assembly, and the factorization of the Newton matrix
 //! I - h gamma J, dense for small models and sparse (faer's LU) for large ones.
 //!
-//! Structure: the states-only dependencies of the derivatives, found by probing the right-hand
-//! side ([`probe`]: each state perturbed alone, n + 1 evaluations) once per library and
-//! configuration of the integer and boolean values ([`structure`], the one place to point at
-//! another source, such as the ModelStructure's derivative dependencies once they are made
-//! once per library). Its columns are grouped by a greedy coloring (no two columns of a group
-//! share a row), so that the Jacobian costs one evaluation per color, not one per state.
+//! Structure: the states-only dependencies of the derivatives, from one evaluation of the
+//! equations over traces (`integrate::ExactRhs::columns`), once per library and configuration of
+//! the integer and boolean values ([`structure`]); [`probe`] finds the same by perturbing each
+//! state alone (n + 1 evaluations: the tests' reference). Its columns are grouped by a greedy
+//! coloring (no two columns of a group share a row), so that the Jacobian costs one evaluation
+//! per color, not one per state.
 //!
-//! Assembly ([`evaluate`], the one function an exact Jacobian would replace): forward differences,
-//! one grouped perturbation per color.
+//! Assembly ([`evaluate`]): exact, the equations evaluated over dual numbers once per color.
 //!
 //! Dense or sparse: below [`DENSE_BELOW`] states the Newton matrix is a dense n x n matrix (every
 //! column perturbed on its own, no probe, LU with partial pivoting); from there on, the probed
@@ -31,6 +30,8 @@ use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
+
+use crate::real::Dual;
 
 /// Dense below this many states, sparse from it on. Measured on the stiff torsional chain
 /// (bench/torsional-chain, J = 1e-4, K = 1e5, D = 10, a 100 N m torque step at 0.1 s; us per
@@ -314,41 +315,36 @@ pub fn structure(key: &StructureKey, columns: impl FnOnce() -> Vec<Vec<usize>>) 
     Ok(made)
 }
 
+/// The right-hand side over dual numbers: f(y, t) into dy, with the advance's parameters.
+pub type DualRhs<'a> = &'a dyn Fn(&[Dual], f64, &mut [Dual]);
+
 /// Work vectors of [`evaluate`].
 #[derive(Default)]
 pub struct Work {
-    x: Vec<f64>,
-    f: Vec<f64>,
-    delta: Vec<f64>,
+    x: Vec<Dual>,
+    f: Vec<Dual>,
 }
 
-/// df/dx at (t, x), where f(t, x) = `f0`, into `values` (the structure's entries, column by
-/// column): forward differences, one grouped perturbation per color (state j moved by
-/// sqrt(eps) max(|x_j|, scale_j)). The one source of the implicit method's Jacobian: exact
-/// derivatives (automatic differentiation) would replace this body.
-pub fn evaluate(s: &Structure, rhs: Rhs, t: f64, x: &[f64], f0: &[f64], scale: &[f64], values: &mut [f64], work: &mut Work) {
+/// df/dx at (t, x) into `values` (the structure's entries, column by column), exact to
+/// round-off: the equations evaluated over dual numbers once per color, every state of the
+/// color seeded with derivative 1 (no two of them reach the same derivative, so each entry is
+/// the derivative part of its row).
+pub fn evaluate(s: &Structure, rhs: DualRhs, t: f64, x: &[f64], values: &mut [f64], work: &mut Work) {
     let n = s.n;
-    let Work { x: xp, f, delta } = work;
-    xp.clear();
-    xp.extend_from_slice(x);
-    f.resize(n, 0.0);
-    delta.resize(n, 0.0);
-    let root_eps = f64::EPSILON.sqrt();
+    let Work { x: xd, f } = work;
+    xd.clear();
+    xd.extend(x.iter().map(|&v| Dual::from(v)));
+    f.resize(n, Dual::from(0.0));
     for c in 0..s.colors() {
         let cols = &s.color_cols[s.color_ptr[c]..s.color_ptr[c + 1]];
         for &j in cols {
-            let moved = x[j] + root_eps * x[j].abs().max(scale[j]);
-            // The step actually taken, exactly representable.
-            delta[j] = moved - x[j];
-            xp[j] = moved;
+            xd[j].eps = 1.0;
         }
-        rhs(xp, t, f);
+        rhs(xd, t, f);
         for &j in cols {
-            xp[j] = x[j];
-            let inv = 1.0 / delta[j];
+            xd[j].eps = 0.0;
             for k in s.col_ptr[j]..s.col_ptr[j + 1] {
-                let i = s.row_idx[k];
-                values[k] = (f[i] - f0[i]) * inv;
+                values[k] = f[s.row_idx[k]].eps;
             }
         }
     }
@@ -523,21 +519,20 @@ mod tests {
         a
     }
 
-    fn apply(a: &[Vec<f64>], x: &[f64], y: &mut [f64]) {
+    fn apply<R: crate::real::Real>(a: &[Vec<f64>], x: &[R], y: &mut [R]) {
         for (i, row) in a.iter().enumerate() {
-            y[i] = row.iter().zip(x).map(|(r, v)| r * v).sum();
+            y[i] = row.iter().zip(x).fold(R::from(0.0), |sum, (r, v)| sum + *v * *r);
         }
     }
 
     #[test]
-    fn colored_differences_and_both_factorizations_solve_the_newton_system() {
+    fn colored_dual_columns_and_both_factorizations_solve_the_newton_system() {
         let n = 40;
         let a = matrix(n);
         let rhs = |x: &[f64], _t: f64, y: &mut [f64]| apply(&a, x, y);
+        let dual = |x: &[Dual], _t: f64, y: &mut [Dual]| apply(&a, x, y);
         let x: Vec<f64> = (0..n).map(|i| 0.3 + i as f64).collect();
         let scale = vec![1.0; n];
-        let mut f0 = vec![0.0; n];
-        rhs(&x, 0.0, &mut f0);
         let sparse = Structure::sparse(n, probe(&rhs, 0.0, &x, &scale)).unwrap();
         assert!(!sparse.is_dense());
         assert_eq!(sparse.nnz(), 3 * n - 2 + 1);
@@ -548,11 +543,12 @@ mod tests {
         let mut solutions = Vec::new();
         for s in [&sparse, &dense] {
             let mut jac = vec![0.0; s.nnz()];
-            evaluate(s, &rhs, 0.0, &x, &f0, &scale, &mut jac, &mut Work::default());
+            evaluate(s, &dual, 0.0, &x, &mut jac, &mut Work::default());
             for j in 0..n {
                 for k in s.col_ptr[j]..s.col_ptr[j + 1] {
                     let i = s.row_idx[k];
-                    assert!((jac[k] - a[i][j]).abs() < 1e-6 * (1.0 + a[i][j].abs()), "J[{i}][{j}] = {} for {}", jac[k], a[i][j]);
+                    // Exact: a linear f's dual derivative is its matrix entry, bit for bit.
+                    assert_eq!(jac[k], a[i][j], "J[{i}][{j}]");
                 }
             }
             let mut f = Factors::new(s);

@@ -21,7 +21,7 @@ pub mod jacobian;
 use diffsol::ode_solver::state::StateCommon;
 use diffsol::{OdeSolverProblem, OdeSolverState, RkState, Vector};
 
-use crate::integrate::{Advanced, Equations, RhsDyn, Vect};
+use crate::integrate::{Advanced, Equations, ExactRhs, RhsDyn, Vect};
 use crate::model::Solver;
 use crate::rk::StepRecord;
 
@@ -58,8 +58,6 @@ pub struct Setup<'a> {
     pub rtol: f64,
     /// Per state.
     pub atol: &'a [f64],
-    /// Per state: its nominal value (a typical magnitude, > 0).
-    pub nominals: &'a [f64],
     /// The indices of the activity states (integrals of |power| dt).
     pub activities: &'a [usize],
     /// What the structure of the model's Jacobian is cached under
@@ -156,6 +154,8 @@ pub trait Stepper {
 pub struct Ode<'a> {
     pub problem: &'a OdeSolverProblem<Equations>,
     pub rhs: &'a RhsDyn,
+    /// The same equations over dual numbers and traces (the implicit method's Jacobian).
+    pub exact: &'a dyn ExactRhs,
     pub p: &'a [f64],
     /// Per state.
     pub atol: &'a [f64],
