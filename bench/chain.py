@@ -223,8 +223,8 @@ class Layout:
 
 
 def run_harness(release: Path, fmu: Path, out: Path, params: dict, tolerance, args, record: Path | None,
-                jacobian_out: Path | None) -> dict:
-    """`fmu-bench chain` in a process of its own; its JSON."""
+                jacobian_out: Path | None, env: dict | None = None) -> dict:
+    """`fmu-bench chain` in a process of its own (with `env` added to the environment); its JSON."""
     cmd = [release / "fmu-bench", "chain", "--fmu", fmu, "--out", out, "--repeats", args.repeats,
            "--step-budget", args.step_budget, "--jacobian-budget", args.jacobian_budget,
            "--memory-budget", args.memory_budget]
@@ -237,7 +237,7 @@ def run_harness(release: Path, fmu: Path, out: Path, params: dict, tolerance, ar
     if jacobian_out is not None:
         cmd += ["--jacobian-out", jacobian_out]
     began = time.perf_counter()
-    subprocess.run([str(c) for c in cmd], check=True)
+    subprocess.run([str(c) for c in cmd], check=True, env=dict(os.environ, **(env or {})))
     result = json.loads(out.read_text())
     result["process_wall_s"] = time.perf_counter() - began
     return result
@@ -478,6 +478,44 @@ def machine() -> str:
             f"Python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, fmpy {fmpy.__version__}")
 
 
+def dense_or_sparse(args) -> None:
+    """The stiff chain's us per doStep (1 s at 1 ms, default tolerance, median of --repeats) with
+    the Newton matrix dense and sparse, at each N of --dense-or-sparse: the measurement behind
+    fmu-runtime's `stepper::jacobian::DENSE_BELOW`. Prints a table and writes
+    <out>/dense_or_sparse.md."""
+    release = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release"
+    src, tag = runtime_source(args.rev)
+    out = Path(args.out)
+    (out / "chain").mkdir(parents=True, exist_ok=True)
+    head = sh(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"]).strip()
+    rows = []
+    for n in sorted(int(s) for s in args.dense_or_sparse.split(",") if s.strip()):
+        crate = make_copy(src, tag, n, "implicit")
+        if not args.no_build:
+            build(crate, release)
+        fmu = crate / "dist" / "TorsionalChain.fmu"
+        us = {}
+        for kind in ("dense", "sparse"):
+            h = run_harness(release, fmu, out / "chain" / f"dense_or_sparse_n{n}_{kind}.json", dict(STIFF), None, args,
+                            None, None, env={"FMU_RUNTIME_JACOBIAN": kind})
+            if "error" in h:
+                sys.exit(f"N = {n}, {kind}: {h['error'][:300]}")
+            us[kind] = h["us_per_step"]
+        rows.append((n, 2 * n - 1, us["dense"], us["sparse"]))
+        log(f"   N = {n} ({2 * n - 1} states): dense {us['dense']:.1f} us, sparse {us['sparse']:.1f} us per doStep")
+    text = "\n".join([
+        f"Stiff torsional chain (J = {STIFF['J']:g}, K = {STIFF['K']:g}, D = {STIFF['D']:g}), implicit method, default "
+        f"tolerance, 1 ms doSteps over 1 s, median of {args.repeats}; commit {head}; {machine()}",
+        "",
+        "| N | states | dense: us per doStep | sparse: us per doStep | sparse / dense |",
+        "| --- | --- | --- | --- | --- |",
+        *[f"| {n} | {m} | {d:.1f} | {s_:.1f} | {s_ / d:.2f} |" for n, m, d, s_ in rows],
+        "",
+    ])
+    (out / "dense_or_sparse.md").write_text(text)
+    print(text)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sizes", default=",".join(map(str, SIZES)),
@@ -500,7 +538,13 @@ def main() -> None:
     ap.add_argument("--no-describe", action="store_true", help="skip the description/probe split of the build")
     ap.add_argument("--out", default=str(ROOT / "target" / "bench"))
     ap.add_argument("--report-only", action="store_true", help="render chain.md again from an earlier run's chain.json")
+    ap.add_argument("--dense-or-sparse", default=None, metavar="SIZES",
+                    help="instead of the benchmark: the stiff chain's doStep at these N with the implicit method's Newton "
+                         "matrix dense and sparse (FMU_RUNTIME_JACOBIAN), for fmu-runtime's DENSE_BELOW, e.g. 3,5,8,10,15,25")
     args = ap.parse_args()
+    if args.dense_or_sparse:
+        dense_or_sparse(args)
+        return
     if args.report_only:
         saved = json.loads((Path(args.out) / "chain.json").read_text())
         results = {int(k): v for k, v in saved["results"].items()}

@@ -39,6 +39,19 @@ use crate::real::Dual;
 /// `DENSE_BELOW_MEASURED`.
 pub const DENSE_BELOW: usize = 20;
 
+/// [`DENSE_BELOW`], or for the benchmark that measures it (bench/chain.py `--dense-or-sparse`) the
+/// environment's `FMU_RUNTIME_JACOBIAN`: `dense` (every size dense) or `sparse` (every size from 2
+/// states sparse), read once per process. Not meant for users: the results are the same to the
+/// tolerance either way, only the cost differs.
+pub fn dense_below() -> usize {
+    static CHOSEN: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *CHOSEN.get_or_init(|| match std::env::var("FMU_RUNTIME_JACOBIAN").as_deref() {
+        Ok("dense") => usize::MAX,
+        Ok("sparse") => 2,
+        _ => DENSE_BELOW,
+    })
+}
+
 /// The measurement behind [`DENSE_BELOW`]: (states, us per doStep dense, us per doStep sparse).
 pub const DENSE_BELOW_MEASURED: &[(usize, f64, f64)] = &[];
 
@@ -300,7 +313,7 @@ static STRUCTURES: Mutex<Vec<(StructureKey, Arc<Structure>)>> = Mutex::new(Vec::
 /// or one made from `columns` (each state's dependent derivatives: [`probe`]) and cached. The one
 /// place that says where the dependencies come from.
 pub fn structure(key: &StructureKey, columns: impl FnOnce() -> Vec<Vec<usize>>) -> Result<Arc<Structure>, String> {
-    if key.n < DENSE_BELOW {
+    if key.n < dense_below() {
         return Ok(Arc::new(Structure::dense(key.n)));
     }
     if let Some((_, s)) = STRUCTURES.lock().unwrap_or_else(|e| e.into_inner()).iter().find(|(k, _)| k == key) {
