@@ -17,7 +17,9 @@ For each size N it
      so that build = description + probe, and the rest (compile, link, package);
   3. runs `fmu-bench chain` (bench/harness/src/chain.rs) on the FMI 2.0 FMU in a fresh process:
      first and second instantiation (fmi2Instantiate + setup + enter/exit initialization), heap and
-     RSS per instance, the full Jacobian by directional derivatives (one column per state), doStep
+     RSS per instance, the full Jacobian by directional derivatives (one column per state), the
+     sparse Jacobian by colored directional derivatives (the states colored by the Derivatives'
+     dependencies in the ModelStructure, one call per color, checked against the former), doStep
      cost over 1 s at 1 ms (CPU time of the thread, median), and one recorded run (the speeds of
      all inertias on the 1 ms grid);
        - explicit: the model's defaults (J = 1, K = 1e4, D = 1: non-stiff), default tolerance;
@@ -747,8 +749,9 @@ def report(results: dict, meta: dict) -> str:
     lines += [
         "| N (states) | build-fmus build, s (description + probe / the rest) | first instantiate | second instantiate | "
         "doStep explicit (per state) | doStep stiff, implicit (per state) | full Jacobian by directional derivatives (per column) | "
+        "sparse Jacobian by colored directional derivatives (colors) | "
         "heap per instance (RSS) | peak RSS after the first instantiate |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for n in sizes:
         if n not in results:
@@ -782,9 +785,18 @@ def report(results: dict, meta: dict) -> str:
             mark = "" if h["jacobian_columns_done"] == h["states"] else f"* ({int(h['jacobian_columns_done'])} columns)"
             return f"{fmt_time(h['jacobian_cpu_s_full'])}{mark} ({fmt_time(h['jacobian_cpu_s_per_column'])})"
 
+        def sparse_cell(h):
+            if not h or "sparse_jacobian_s" not in h:
+                return "-"
+            mark = f"* ({int(h['sparse_jacobian_colors_done'])} colors)" if h.get("sparse_jacobian_extrapolated") == "yes" else ""
+            extra = "" if h.get("sparse_jacobian_structure") == "sparse" else "; dense: no dependencies listed"
+            if h.get("sparse_jacobian_mismatches"):
+                extra += f"; {int(h['sparse_jacobian_mismatches'])} entries differ from the per-column Jacobian"
+            return f"{fmt_time(h['sparse_jacobian_s'])}{mark} ({int(h['sparse_jacobian_colors'])}{extra})"
+
         lines.append(
             f"| {n} ({2 * n - 1}) | {build_cell} | {fmt_time(e.get('first_total_wall_s'))} | {fmt_time(e.get('second_total_wall_s'))} | "
-            f"{step_cell(e)} | {step_cell(s)} | {jac_cell(e)} | "
+            f"{step_cell(e)} | {step_cell(s)} | {jac_cell(e)} | {sparse_cell(e)} | "
             f"{fmt_kb(e.get('heap_kb_per_instance'))} ({fmt_kb(e.get('rss_kb_per_instance'))}, "
             f"{int(e.get('memory_instances', 0))} instances) | {fmt_kb(e.get('peak_rss_kb_after_first'))} |"
         )
@@ -850,6 +862,10 @@ def report(results: dict, meta: dict) -> str:
                 tols = ", ".join(f"{f['tolerance']:.0e}" for f in mine)
                 notes.append(f"N = {n} {case}: the {v} copy ({what}) failed at rtol {tols}, each in {mine[0]['phase']}; "
                              f"the first: {mine[0]['error'][:300]}")
+            if h.get("sparse_jacobian_mismatches"):
+                notes.append(f"N = {n} {case}: the sparse Jacobian by colored directional derivatives differs from the per-column "
+                             f"one in {int(h['sparse_jacobian_mismatches'])} of {int(h['sparse_jacobian_compared_entries'])} entries "
+                             f"({int(h['sparse_jacobian_outside_structure'])} outside the declared structure)")
             if h.get("skipped"):
                 notes.append(f"N = {n} {case}: our FMU not run (--stiff-max {meta['stiff_max']}): the dense implicit method "
                              "would need hours per doStep; scipy at the rtol matched at a smaller size")
@@ -866,11 +882,14 @@ def report(results: dict, meta: dict) -> str:
     ns = [n for n in sizes if n in results]
     def extrapolated(n, case, what):
         h = results[n].get(case, {})
+        if what == "sparse":
+            return h.get("sparse_jacobian_extrapolated") == "yes"
         return h.get("step_extrapolated") == "yes" if what == "step" else h.get("jacobian_columns_done", 0) < h.get("states", 0)
 
     marks = {"doStep explicit": [extrapolated(n, "explicit", "step") for n in ns],
              "doStep stiff (implicit)": [extrapolated(n, "stiff", "step") for n in ns],
-             "full Jacobian": [extrapolated(n, "explicit", "jacobian") for n in ns]}
+             "full Jacobian": [extrapolated(n, "explicit", "jacobian") for n in ns],
+             "sparse Jacobian (colored)": [extrapolated(n, "explicit", "sparse") for n in ns]}
     series = {
         "doStep explicit": [get(n, "explicit", "us_per_step") for n in ns],
         "doStep stiff (implicit)": [get(n, "stiff", "us_per_step") for n in ns],
@@ -879,6 +898,7 @@ def report(results: dict, meta: dict) -> str:
         "first instantiate": [get(n, "explicit", "first_total_wall_s") for n in ns],
         "second instantiate": [get(n, "explicit", "second_total_wall_s") for n in ns],
         "full Jacobian": [get(n, "explicit", "jacobian_cpu_s_full") for n in ns],
+        "sparse Jacobian (colored)": [get(n, "explicit", "sparse_jacobian_s") for n in ns],
         "heap per instance": [get(n, "explicit", "heap_kb_per_instance") for n in ns],
     }
     for m_ in ("RK45",):

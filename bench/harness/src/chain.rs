@@ -22,6 +22,18 @@
 //!    that state as the known, seed 1), until `--jacobian-budget` seconds of CPU are spent (the
 //!    rest extrapolated from the mean per column, and said so); the nonzeros are written to
 //!    `--jacobian-out` if given;
+//!    then, on the same instance, the sparse Jacobian as a master that reads the ModelStructure
+//!    assembles it: the columns of df/dx (the states) colored greedily, in state order, by the
+//!    Derivatives' `dependencies` (no two states of a color reach the same derivative), one
+//!    `fmi2GetDirectionalDerivative` per color (all derivatives as unknowns, all states as knowns,
+//!    seed 1 on the states of the color), each declared entry (i, j) read from row i of the
+//!    result of j's color into a fixed compressed-column pattern; the whole assembly timed (CPU
+//!    time of the thread, median of up to `--repeats`, within `--jacobian-budget`; the coloring,
+//!    done once, timed apart). A derivative without `dependencies` (it depends on every state)
+//!    makes the coloring dense: one color per state, every row of each result read (the nonzeros
+//!    kept), and said so. Its entries are checked against the per-column Jacobian's over the
+//!    columns that one computed: entries that differ, and nonzeros outside the declared
+//!    structure, are counted and the first printed;
 //! 5. the doStep cost: `--repeats` runs over the DefaultExperiment (1 s at 1 ms), each on a fresh
 //!    instance, the loop alone timed (`fmi2DoStep` + `fmi2GetReal` of the outputs, CPU time of
 //!    the thread), median; the runs stop when `--step-budget` seconds of stepping are spent (a run
@@ -40,11 +52,12 @@
 //! standard's description and documentation), each timed: the description and dependency
 //! probe's share of `build-fmus build`.
 
+use std::collections::{HashMap, HashSet};
 use std::ffi::{c_char, CStr};
 use std::sync::Arc;
 use std::time::Instant;
 
-use fmi_host::{Fmu, Instance, Status, ValueReference};
+use fmi_host::{Fmu, Instance, Status, ValueReference, VariableType};
 
 use crate::json::Json;
 use crate::{check, heap_in_use_bytes, load, median, rss_kb, thread_cpu_seconds, Args};
@@ -270,6 +283,10 @@ fn chain_into(args: &Args, report: &mut Report) -> PhaseResult<()> {
     let mut triplets = String::new();
     let (wall, cpu) = (Instant::now(), thread_cpu_seconds());
     let mut done = 0;
+    // Each column's nonzeros (row, value), for the check of the sparse Jacobian below: kept
+    // aside, their CPU time (`aside`) left out of the figure and of the budget.
+    let mut columns: Vec<Vec<(u32, f64)>> = Vec::new();
+    let mut aside = 0.0;
     for j in 0..n {
         let status = inst.get_directional_derivative(&lay.derivatives, &lay.states[j..j + 1], &[1.0], &mut column);
         if status != Status::OK {
@@ -281,12 +298,14 @@ fn chain_into(args: &Args, report: &mut Report) -> PhaseResult<()> {
                 triplets.push_str(&format!("{i} {j} {v:.17e}\n"));
             }
         }
-        if thread_cpu_seconds() - cpu > opts.jacobian_budget {
+        let began = thread_cpu_seconds();
+        columns.push(column.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, v)| (i as u32, *v)).collect());
+        aside += thread_cpu_seconds() - began;
+        if thread_cpu_seconds() - cpu - aside > opts.jacobian_budget {
             break;
         }
     }
-    let (jac_cpu, jac_wall) = (thread_cpu_seconds() - cpu, wall.elapsed().as_secs_f64());
-    inst.free();
+    let (jac_cpu, jac_wall) = (thread_cpu_seconds() - cpu - aside, wall.elapsed().as_secs_f64());
     report.num("jacobian_columns_done", done as f64);
     report.num("jacobian_cpu_s", jac_cpu);
     report.num("jacobian_wall_s", jac_wall);
@@ -296,6 +315,11 @@ fn chain_into(args: &Args, report: &mut Report) -> PhaseResult<()> {
         in_phase("jacobian", std::fs::write(file, &triplets).map_err(|e| format!("{file}: {e}")))?;
     }
     eprintln!("fmu-bench chain: Jacobian, {done} of {n} columns in {jac_cpu:.3} s");
+
+    // 4b: the sparse Jacobian by colored directional derivatives, on the same instance.
+    let sparse = in_phase("sparse jacobian", sparse_jacobian(&fmu, &lay, &mut inst, &opts, &columns));
+    inst.free();
+    sparse?.put(report);
 
     // 5: the doStep cost.
     let steps = (lay.stop / lay.step).round() as usize;
@@ -381,6 +405,275 @@ fn chain_into(args: &Args, report: &mut Report) -> PhaseResult<()> {
         report.str("recorded", bin);
     }
     Ok(())
+}
+
+/// df/dx's sparsity as the ModelStructure declares it: for each state (column, in the order of
+/// `Layout::states`), the derivatives (rows, in the order of `Layout::derivatives`) whose
+/// `dependencies` list it, ascending.
+struct Structure {
+    columns: Vec<Vec<u32>>,
+    /// Derivatives without `dependencies` (each depends on every state: dense coloring).
+    undeclared: usize,
+    /// Dependencies that are no state (inputs): not columns of df/dx.
+    non_state: usize,
+    /// Dependencies whose value reference a state shares with a variable of another type (FMI
+    /// 2.0's value references are unique per type only; the reader turned the indices into value
+    /// references): kept, which can only add a dependency.
+    ambiguous: usize,
+}
+
+fn structure(fmu: &Fmu, lay: &Layout) -> Structure {
+    let md = fmu.model_description();
+    let position: HashMap<ValueReference, usize> = lay.states.iter().enumerate().map(|(j, vr)| (*vr, j)).collect();
+    let other_types: HashSet<ValueReference> =
+        md.model_variables.iter().filter(|v| v.variable_type != VariableType::Real).map(|v| v.value_reference).collect();
+    let mut s = Structure { columns: vec![Vec::new(); lay.states.len()], undeclared: 0, non_state: 0, ambiguous: 0 };
+    // `layout` takes the derivatives from this list in its order: row i is its i-th entry.
+    for (i, unknown) in md.model_structure.continuous_state_derivatives.iter().enumerate() {
+        let Some(dependencies) = &unknown.dependencies else {
+            s.undeclared += 1;
+            continue;
+        };
+        for d in dependencies {
+            match position.get(d) {
+                Some(&j) => {
+                    s.ambiguous += other_types.contains(d) as usize;
+                    s.columns[j].push(i as u32);
+                }
+                None => s.non_state += 1,
+            }
+        }
+    }
+    for rows in &mut s.columns {
+        rows.sort_unstable();
+        rows.dedup();
+    }
+    s
+}
+
+/// Greedy coloring of the columns in their order: a column takes the smallest color that no
+/// column sharing a row with it has. The colors' columns, ascending, color by color.
+fn color_columns(columns: &[Vec<u32>], rows: usize) -> Vec<Vec<usize>> {
+    let mut row_columns: Vec<Vec<usize>> = vec![Vec::new(); rows];
+    for (j, col) in columns.iter().enumerate() {
+        for &i in col {
+            row_columns[i as usize].push(j);
+        }
+    }
+    let mut color = vec![usize::MAX; columns.len()];
+    // taken[c] == j: color c is taken by a neighbour of column j.
+    let mut taken = vec![usize::MAX; columns.len() + 1];
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for j in 0..columns.len() {
+        for &i in &columns[j] {
+            for &k in &row_columns[i as usize] {
+                if color[k] != usize::MAX {
+                    taken[color[k]] = j;
+                }
+            }
+        }
+        let c = (0..).find(|&c| taken[c] != j).expect("at most one color per column");
+        color[j] = c;
+        if c == groups.len() {
+            groups.push(Vec::new());
+        }
+        groups[c].push(j);
+    }
+    groups
+}
+
+/// The sparse Jacobian's figures and check.
+struct Sparse {
+    structure: String,
+    colors: usize,
+    colors_done: usize,
+    nonzeros: usize,
+    runs: Vec<f64>,
+    extrapolated: bool,
+    coloring_s: f64,
+    non_state: usize,
+    ambiguous: usize,
+    compared_columns: usize,
+    compared_entries: usize,
+    mismatches: usize,
+    outside_structure: usize,
+    max_abs_diff: f64,
+}
+
+impl Sparse {
+    fn put(self, report: &mut Report) {
+        report.str("sparse_jacobian_structure", &self.structure);
+        report.num("sparse_jacobian_colors", self.colors as f64);
+        report.num("sparse_jacobian_nonzeros", self.nonzeros as f64);
+        report.nums("sparse_jacobian_s_all", &self.runs);
+        report.num("sparse_jacobian_s", median(self.runs));
+        report.str("sparse_jacobian_extrapolated", if self.extrapolated { "yes" } else { "no" });
+        if self.extrapolated {
+            report.num("sparse_jacobian_colors_done", self.colors_done as f64);
+        }
+        report.num("sparse_jacobian_coloring_s", self.coloring_s);
+        report.num("sparse_jacobian_non_state_dependencies", self.non_state as f64);
+        report.num("sparse_jacobian_ambiguous_dependencies", self.ambiguous as f64);
+        report.num("sparse_jacobian_compared_columns", self.compared_columns as f64);
+        report.num("sparse_jacobian_compared_entries", self.compared_entries as f64);
+        report.num("sparse_jacobian_mismatches", self.mismatches as f64);
+        report.num("sparse_jacobian_outside_structure", self.outside_structure as f64);
+        report.num("sparse_jacobian_max_abs_diff", self.max_abs_diff);
+    }
+}
+
+/// Phase 4b (see the module's documentation); `per_column`: the nonzeros of the per-column
+/// Jacobian's columns, the first `per_column.len()` states'.
+fn sparse_jacobian(fmu: &Fmu, lay: &Layout, inst: &mut Instance, opts: &Options, per_column: &[Vec<(u32, f64)>]) -> Result<Sparse, String> {
+    let n = lay.states.len();
+    let rows = lay.derivatives.len();
+    // The structure and its coloring: once, as a master does at setup.
+    let began = thread_cpu_seconds();
+    let s = structure(fmu, lay);
+    let dense = s.undeclared > 0;
+    let groups: Vec<Vec<usize>> = if dense { (0..n).map(|j| vec![j]).collect() } else { color_columns(&s.columns, rows) };
+    // Compressed columns: column j's entries are at pointer[j]..pointer[j + 1] of row/value.
+    let mut pointer = vec![0usize; n + 1];
+    let mut row: Vec<u32> = Vec::new();
+    if !dense {
+        for (j, col) in s.columns.iter().enumerate() {
+            row.extend_from_slice(col);
+            pointer[j + 1] = row.len();
+        }
+    }
+    let coloring_s = thread_cpu_seconds() - began;
+    let structure = if dense {
+        format!("dense: {} of {rows} derivatives list no dependencies (each depends on every state), one color per state", s.undeclared)
+    } else {
+        "sparse".to_string()
+    };
+    eprintln!(
+        "fmu-bench chain: sparse Jacobian: {} colors for {n} states ({structure}; {:.3} ms to color){}",
+        groups.len(),
+        coloring_s * 1e3,
+        if s.non_state + s.ambiguous > 0 { format!("; {} non-state and {} ambiguous dependencies", s.non_state, s.ambiguous) } else { String::new() }
+    );
+    if dense {
+        // Every row of each result is an entry: the nonzeros are kept, column after column.
+        row = Vec::with_capacity(per_column.iter().map(Vec::len).sum::<usize>().max(n));
+    }
+    let mut value = vec![0.0; row.len()];
+    let mut seed = vec![0.0; n];
+    let mut result = vec![0.0; rows];
+
+    // The assembly, timed whole, repeated.
+    let mut runs = Vec::new();
+    let mut spent = 0.0;
+    let mut colors_done = groups.len();
+    for _ in 0..opts.repeats.max(1) {
+        if dense {
+            row.clear();
+            value.clear();
+        }
+        let cpu = thread_cpu_seconds();
+        for (c, group) in groups.iter().enumerate() {
+            for &j in group {
+                seed[j] = 1.0;
+            }
+            let status = inst.get_directional_derivative(&lay.derivatives, &lay.states, &seed, &mut result);
+            if status != Status::OK {
+                return Err(format!("fmi2GetDirectionalDerivative of color {c} ({} states) returned {status:?}: {}", group.len(), messages(inst)));
+            }
+            for &j in group {
+                seed[j] = 0.0;
+                if dense {
+                    for (i, v) in result.iter().enumerate().filter(|(_, v)| **v != 0.0) {
+                        row.push(i as u32);
+                        value.push(*v);
+                    }
+                    pointer[j + 1] = row.len();
+                } else {
+                    for k in pointer[j]..pointer[j + 1] {
+                        value[k] = result[row[k] as usize];
+                    }
+                }
+            }
+            if thread_cpu_seconds() - cpu > opts.jacobian_budget && c + 1 < groups.len() {
+                colors_done = c + 1;
+                break;
+            }
+        }
+        let used = thread_cpu_seconds() - cpu;
+        if colors_done < groups.len() {
+            runs.push(used / colors_done as f64 * groups.len() as f64);
+            break;
+        }
+        runs.push(used);
+        spent += used;
+        if spent + used > opts.jacobian_budget {
+            break;
+        }
+    }
+    let nonzeros = row.len();
+
+    // The check against the per-column Jacobian, over the columns both computed.
+    let mut done = vec![false; n];
+    for group in &groups[..colors_done] {
+        for &j in group {
+            done[j] = true;
+        }
+    }
+    let (mut compared_columns, mut compared_entries, mut mismatches, mut outside_structure, mut max_abs_diff) = (0, 0, 0, 0, 0.0f64);
+    let mut shown = 0;
+    for (j, expected) in per_column.iter().enumerate().filter(|(j, _)| done[*j]) {
+        compared_columns += 1;
+        let colored: HashMap<u32, f64> = (pointer[j]..pointer[j + 1]).map(|k| (row[k], value[k])).collect();
+        let by_column: HashMap<u32, f64> = expected.iter().copied().collect();
+        let mut at: Vec<u32> = colored.keys().chain(by_column.keys()).copied().collect::<HashSet<_>>().into_iter().collect();
+        at.sort_unstable();
+        for i in at {
+            compared_entries += 1;
+            let (a, b) = (colored.get(&i).copied(), by_column.get(&i).copied().unwrap_or(0.0));
+            let diff = (a.unwrap_or(0.0) - b).abs();
+            max_abs_diff = max_abs_diff.max(diff);
+            let outside = a.is_none() && !dense;
+            if outside {
+                outside_structure += 1;
+            }
+            // Forward-mode derivatives: the same up to round-off.
+            if outside || diff > 1e-12 * a.unwrap_or(0.0).abs().max(b.abs()) {
+                mismatches += 1;
+                if shown < 10 {
+                    shown += 1;
+                    eprintln!(
+                        "fmu-bench chain: sparse Jacobian entry ({i}, {j}): colored {}, per column {b:e}",
+                        a.map_or("not declared".to_string(), |a| format!("{a:e}"))
+                    );
+                }
+            }
+        }
+    }
+    let median_s = median(runs.clone());
+    eprintln!(
+        "fmu-bench chain: sparse Jacobian: {} colors, {nonzeros} entries in {:.3} ms{} (median of {}); against the per-column Jacobian \
+         over {compared_columns} columns: {mismatches} of {compared_entries} entries differ ({outside_structure} outside the declared structure), \
+         max |difference| {max_abs_diff:e}",
+        groups.len(),
+        median_s * 1e3,
+        if colors_done < groups.len() { format!(" (extrapolated from {colors_done} colors)") } else { String::new() },
+        runs.len()
+    );
+    Ok(Sparse {
+        structure,
+        colors: groups.len(),
+        colors_done,
+        nonzeros,
+        runs,
+        extrapolated: colors_done < groups.len(),
+        coloring_s,
+        non_state: s.non_state,
+        ambiguous: s.ambiguous,
+        compared_columns,
+        compared_entries,
+        mismatches,
+        outside_structure,
+        max_abs_diff,
+    })
 }
 
 /// `chain-describe --lib LIB --out JSON`: see the module's documentation.
