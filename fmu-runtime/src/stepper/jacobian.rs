@@ -35,8 +35,9 @@ use crate::real::Dual;
 
 /// Dense below this many states, sparse from it on. Measured on the stiff torsional chain
 /// (bench/torsional-chain, J = 1e-4, K = 1e5, D = 10, a 100 N m torque step at 0.1 s; us per
-/// 1 ms doStep over 1 s at rtol 1e-8, in-process, on the shared 2-core machine): see
-/// `DENSE_BELOW_MEASURED`.
+/// 1 ms doStep over 1 s at rtol 1e-8, through the C ABI, on the shared 2-core machine): see
+/// [`DENSE_BELOW_MEASURED`]. At 19 states both cost the same (3.9 and 3.8 us), at 29 sparse
+/// costs 0.77 of dense, at 99 0.39.
 pub const DENSE_BELOW: usize = 20;
 
 /// [`DENSE_BELOW`], or for the benchmark that measures it (bench/chain.py `--dense-or-sparse`) the
@@ -52,8 +53,12 @@ pub fn dense_below() -> usize {
     })
 }
 
-/// The measurement behind [`DENSE_BELOW`]: (states, us per doStep dense, us per doStep sparse).
-pub const DENSE_BELOW_MEASURED: &[(usize, f64, f64)] = &[];
+/// The measurement behind [`DENSE_BELOW`]: (states, us per doStep dense, us per doStep sparse),
+/// `bench/run.sh --chain --dense-or-sparse 3,5,8,10,15,25,50` at commit 8f5563b (BENCHMARKS.md).
+/// Up to 15 states the chain's band fills more than [`DENSE_ABOVE_FILL`] of the matrix, so
+/// "sparse" is dense there too.
+pub const DENSE_BELOW_MEASURED: &[(usize, f64, f64)] =
+    &[(5, 1.0, 1.0), (9, 1.7, 1.7), (15, 2.9, 2.9), (19, 3.9, 3.8), (29, 7.6, 5.9), (49, 17.2, 11.0), (99, 64.1, 25.1)];
 
 /// A probed pattern with more than this fraction of its n^2 entries set is factorized dense.
 pub const DENSE_ABOVE_FILL: f64 = 0.25;
