@@ -28,7 +28,7 @@ For each size N it
          does, the same with a third copy whose torque step is written `t > step_time` instead of
          the crate's `t >= step_time` (n<N>-implicit-gt/; issue 25: the implicit method fails at the
          declared time event); the choice made at the smallest size holds for the larger ones
-         (`--stiff VARIANT:RTOL` sets it); our FMU steps the stiff chain up to --stiff-max (1000);
+         (`--stiff VARIANT:RTOL` sets it); our FMU steps the stiff chain up to --stiff-max (10000);
      a stepping run that would exceed --step-budget seconds of CPU is cut there and extrapolated
      from its mean per doStep (marked "extrapolated" with the number of doSteps measured); the
      Jacobian likewise (--jacobian-budget);
@@ -521,7 +521,7 @@ def dense_or_sparse(args) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sizes", default=",".join(map(str, SIZES)),
-                    help="inertias N, comma-separated (default: 10,100,1000,10000; N = 10000 takes ~15 min of a ~21 min run today)")
+                    help="inertias N, comma-separated (default: 10,100,1000,10000; about 12 min in all at bb1291d, N = 10000 most of it)")
     ap.add_argument("--repeats", type=int, default=5, help="timed doStep runs (median) and scipy repeats (up to 3)")
     ap.add_argument("--rev", default=None,
                     help="build against the runtime of this git revision (git archive into target/bench/chain/src-<sha>) "
@@ -529,9 +529,9 @@ def main() -> None:
     ap.add_argument("--step-budget", type=float, default=60.0, help="CPU s of doSteps per run before extrapolating")
     ap.add_argument("--jacobian-budget", type=float, default=30.0, help="CPU s of Jacobian columns before extrapolating")
     ap.add_argument("--memory-budget", type=float, default=10.0, help="s of instantiation for the memory figure")
-    ap.add_argument("--stiff-max", type=int, default=1000,
-                    help="largest N whose stiff chain our FMU steps (default 1000: above, today's dense implicit method "
-                         "needs hours per doStep and GBs per instance; scipy still runs)")
+    ap.add_argument("--stiff-max", type=int, default=10000,
+                    help="largest N whose stiff chain our FMU steps (default 10000; the dense implicit method before "
+                         "issue 25 needed 1000: above, hours per doStep; scipy runs at every size)")
     ap.add_argument("--stiff", default=None, metavar="VARIANT:RTOL",
                     help="the stiff chain's copy and tolerance, e.g. implicit-gt:1e-5 (default: the first of "
                          f"{', '.join(STIFF_VARIANTS)} x default, {', '.join(f'{t:.0e}' for t in STIFF_FALLBACK)} that "
