@@ -170,9 +170,8 @@ pub fn balance<R: Real>(elements: &[ElementInfo], powers: &[R]) -> (R, R) {
     (residual, relative)
 }
 
-/// Fills in `activity_<name>`, `share_<name>` and the balance outputs from the activity states
-/// and the reported powers.
-pub(crate) fn write_outputs<R: Real>(elements: &[ElementInfo], balance_outputs: Option<BalanceOutputs>, states: &[R], powers: &[R], calculated: &mut [R]) {
+/// Fills in `activity_<name>` and `share_<name>` from the activity states.
+pub(crate) fn write_activity_outputs<R: Real>(elements: &[ElementInfo], states: &[R], calculated: &mut [R]) {
     let total = |storage: bool| -> R {
         elements
             .iter()
@@ -191,11 +190,13 @@ pub(crate) fn write_outputs<R: Real>(elements: &[ElementInfo], balance_outputs: 
             calculated[y] = if sum > 0.0 { states[s] * 100.0 / sum } else { R::from(0.0) };
         }
     }
-    if let Some(b) = balance_outputs {
-        let (residual, relative) = balance(elements, powers);
-        calculated[b.residual] = residual;
-        calculated[b.relative] = relative;
-    }
+}
+
+/// Fills in the balance outputs from the reported powers.
+pub(crate) fn write_balance<R: Real>(elements: &[ElementInfo], outputs: BalanceOutputs, powers: &[R], calculated: &mut [R]) {
+    let (residual, relative) = balance(elements, powers);
+    calculated[outputs.residual] = residual;
+    calculated[outputs.relative] = relative;
 }
 
 /// Table 3.1 for the documentation: one row per component, its domains and its effects, in

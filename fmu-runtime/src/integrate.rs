@@ -432,6 +432,10 @@ pub struct Integrator {
     y_end: Vec<f64>,
     z: Vec<f64>,
     z_prev: Vec<f64>,
+    /// `z_prev` holds exactly the indicators at the end of the stepper's last accepted step (none
+    /// was zero there) with the current parameter vector: an advance that continues that step
+    /// need not evaluate them there again ([`Ends::z_prev_fresh`]).
+    z_prev_fresh: bool,
     /// The zero-crossing search's buffers.
     roots: RootScratch,
     /// The size of the solver's next step (None before the first step: diffsol's starting-step
@@ -523,6 +527,7 @@ impl Integrator {
             y_end: Vec::with_capacity(n_states),
             z: vec![0.0; n_indicators],
             z_prev: vec![0.0; n_indicators],
+            z_prev_fresh: false,
             roots: RootScratch::new(n_states, n_indicators),
             step_size: None,
             after_time_event: None,
@@ -556,6 +561,7 @@ impl Integrator {
     /// it, where the solver saw no crossing). None without indicators or crossing.
     pub fn jump_at(&mut self, before: f64, at: f64, x: &[f64]) -> Option<usize> {
         let g = self.indicators.as_ref()?;
+        self.z_prev_fresh = false;
         g(x, &self.p, before, &mut self.z_prev);
         g(x, &self.p, at, &mut self.z);
         (0..self.n_indicators).find(|&j| crate::stepper::events::crossed(self.z_prev[j], self.z[j]))
@@ -595,6 +601,9 @@ impl Integrator {
         self.y_end.clear();
         self.y_end.extend_from_slice(x);
         self.resume = true;
+        // A restored instance evaluates the indicators at the step's end again, as the live one
+        // does unless it knows them: the same values either way.
+        self.z_prev_fresh = false;
     }
 
     /// Advances `x` from `t0` to `t1` with the knowns at `known` moving as `motion` says, or
@@ -648,7 +657,7 @@ impl Integrator {
         // A moving input's motion is only the master's word for this communication step.
         let moving = self.p[3 * self.n_known + 1] != 0.0;
         let indicators_at = self.indicators_at.take();
-        let Integrator { problem, rhs, exact, indicators, n_indicators, method, rtol, atol, p, quadrature, reached, y_end, z, z_prev, roots, step_size, .. } = self;
+        let Integrator { problem, rhs, exact, indicators, n_indicators, method, rtol, atol, p, quadrature, reached, y_end, z, z_prev, z_prev_fresh, roots, step_size, .. } = self;
         let (rhs, p, reached): (&RhsDyn, &[f64], f64) = (&**rhs, p, *reached);
         let ode = Ode { problem, rhs, exact: &**exact, p, atol, rtol: *rtol };
         let events = indicators.as_ref().map(|g| Events { g: &**g, p, n: *n_indicators, start_at: indicators_at });
@@ -660,6 +669,8 @@ impl Integrator {
                 && stepper.last_step().1 <= limit
                 && (t0 - reached).abs() <= negligible_interval(t0)
                 && same_bits(x0, y_end);
+            // The indicators at the step's end are known only while that step is continued.
+            *z_prev_fresh &= resume;
             if !resume && t1 - t0 <= negligible_interval(t0) {
                 euler(rhs, p, quadrature, t0, x0, t1, y_end);
                 return Ok((Advanced::Reached, false));
@@ -667,7 +678,7 @@ impl Integrator {
             if !resume {
                 stepper.start(t0, x0, *step_size, limit)?;
             }
-            let ends = Ends { y_end, z, z_prev, roots };
+            let ends = Ends { y_end, z, z_prev, z_prev_fresh, roots };
             let result = step_until(stepper, events.as_ref(), t1, limit, ends, budget);
             if result.is_ok() || stepper.keeps_step_size_on_failure() {
                 *step_size = Some(stepper.step_size());

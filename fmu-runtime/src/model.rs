@@ -138,7 +138,8 @@ pub fn evaluate<M: Model, R: Real>(
     calculated: &mut [R],
 ) {
     evaluate_derivatives(model, time, known, states, integers, booleans, derivatives);
-    evaluate_outputs(model, table, time, known, states, integers, booleans, calculated, &mut Vec::new());
+    evaluate_outputs_but_balance(model, table, time, known, states, integers, booleans, calculated);
+    evaluate_balance(model, table, time, known, states, integers, booleans, calculated, &mut Vec::new());
 }
 
 /// The derivatives alone (see [`evaluate`]).
@@ -156,11 +157,28 @@ pub fn evaluate_powers<M: Model, R: Real>(model: &M, time: f64, known: &[R], sta
     model.derivatives(&Knowns::new(time, known, states, integers, booleans), &mut Derivatives::with_powers(derivatives, powers));
 }
 
-/// The calculated values alone: outputs, locals, calculated parameters, and the runtime's
-/// activity, share and energy-balance outputs (see [`crate::elements`]); `work` is scratch
-/// space for the balance's evaluation of the derivatives (it grows once, then is reused).
+/// The calculated values but the energy-balance outputs: the model's outputs, locals and
+/// calculated parameters, and the activity and share outputs (from the states alone).
 #[allow(clippy::too_many_arguments)]
-pub fn evaluate_outputs<M: Model, R: Real>(
+pub fn evaluate_outputs_but_balance<M: Model, R: Real>(
+    model: &M,
+    table: &VariableTable,
+    time: f64,
+    known: &[R],
+    states: &[R],
+    integers: &[i32],
+    booleans: &[bool],
+    calculated: &mut [R],
+) {
+    model.outputs(&Knowns::new(time, known, states, integers, booleans), &mut Outputs::new(calculated));
+    crate::elements::write_activity_outputs(&table.elements, states, calculated);
+}
+
+/// The energy-balance outputs (`power_balance_residual`, `power_balance_relative`), which take
+/// an evaluation of the derivatives for the elements' powers; nothing for a model without them.
+/// `work` is scratch space (it grows once, then is reused).
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate_balance<M: Model, R: Real>(
     model: &M,
     table: &VariableTable,
     time: f64,
@@ -171,14 +189,11 @@ pub fn evaluate_outputs<M: Model, R: Real>(
     calculated: &mut [R],
     work: &mut Vec<R>,
 ) {
-    model.outputs(&Knowns::new(time, known, states, integers, booleans), &mut Outputs::new(calculated));
-    if table.elements.is_empty() {
-        return;
-    }
+    let Some(outputs) = table.balance else { return };
     work.resize(table.n_states + table.elements.len(), R::from(0.0));
     let (rates, powers) = work.split_at_mut(table.n_states);
     evaluate_powers(model, time, known, states, integers, booleans, rates, powers);
-    crate::elements::write_outputs(&table.elements, table.balance, states, powers, calculated);
+    crate::elements::write_balance(&table.elements, outputs, powers, calculated);
 }
 
 /// Fills in the calculated states of `states` (which holds the start values of the others)

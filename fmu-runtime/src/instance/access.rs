@@ -9,6 +9,7 @@ impl<M: Model> Instance<M> {
         let mut need = Fresh::default();
         for vr in vrs {
             match self.variable(*vr, T::TYPE)?.slot {
+                Slot::Calculated(i) if self.table.balance.is_some_and(|b| i == b.residual || i == b.relative) => need.balance = true,
                 Slot::Calculated(_) => need.calculated = true,
                 Slot::Derivative(_) => need.derivatives = true,
                 _ => {}

@@ -128,8 +128,15 @@ pub struct EventInfo {
 /// Which lazily computed values are up to date (see `Instance::refresh_only`).
 #[derive(Clone, Copy, Default)]
 struct Fresh {
+    /// The calculated values but the energy-balance outputs.
     calculated: bool,
+    /// The energy-balance outputs (they take an evaluation of the derivatives).
+    balance: bool,
     derivatives: bool,
+}
+
+impl Fresh {
+    const ALL: Fresh = Fresh { calculated: true, balance: true, derivatives: true };
 }
 
 pub struct Instance<M: Model> {
@@ -152,9 +159,9 @@ pub struct Instance<M: Model> {
     /// derivatives and previous inputs.
     now: Situation,
     /// Outputs and derivatives are recomputed lazily, when read after a change: `stale` says
-    /// that something changed, `fresh` which of the two (calculated values, derivatives) have
-    /// been recomputed since (a master reading outputs after each step never pays for the
-    /// derivatives).
+    /// that something changed, `fresh` which of the three (calculated values, the energy
+    /// balance, derivatives) have been recomputed since (a master reading outputs after each
+    /// step never pays for the derivatives, nor for the balance unless it reads it).
     stale: bool,
     fresh: Fresh,
     /// A known may have changed since the solver last advanced (set by the master, moved along
@@ -283,7 +290,7 @@ impl<M: Model> Instance<M> {
 
     /// Recomputes outputs, locals and derivatives from the knowns if anything changed.
     fn refresh(&mut self) {
-        self.refresh_only(Fresh { calculated: true, derivatives: true });
+        self.refresh_only(Fresh::ALL);
     }
 
     /// Recomputes what `need` asks for (calculated values, derivatives) if anything changed
@@ -299,8 +306,12 @@ impl<M: Model> Instance<M> {
         }
         let (time, v) = (self.now.time, &mut self.now.values);
         if need.calculated && !self.fresh.calculated {
-            crate::model::evaluate_outputs(&*self.model, &self.table, time, &v.known, &v.states, &v.integers, &v.booleans, &mut v.calculated, &mut self.buffers.balance);
+            crate::model::evaluate_outputs_but_balance(&*self.model, &self.table, time, &v.known, &v.states, &v.integers, &v.booleans, &mut v.calculated);
             self.fresh.calculated = true;
+        }
+        if need.balance && !self.fresh.balance {
+            crate::model::evaluate_balance(&*self.model, &self.table, time, &v.known, &v.states, &v.integers, &v.booleans, &mut v.calculated, &mut self.buffers.balance);
+            self.fresh.balance = true;
         }
         if need.derivatives && !self.fresh.derivatives {
             crate::model::evaluate_derivatives(&*self.model, time, &v.known, &v.states, &v.integers, &v.booleans, &mut v.derivatives);

@@ -98,7 +98,7 @@ impl<M: Model> Instance<M> {
 
     pub fn get_derivatives(&mut self, dx: &mut [f64]) -> CallResult {
         self.check_length(dx.len(), "derivatives", self.table.n_states)?;
-        self.refresh_only(Fresh { calculated: false, derivatives: true });
+        self.refresh_only(Fresh { derivatives: true, ..Fresh::default() });
         dx.copy_from_slice(&self.now.values.derivatives);
         Ok(())
     }

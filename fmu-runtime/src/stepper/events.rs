@@ -34,6 +34,10 @@ pub struct Ends<'a> {
     pub y_end: &'a mut Vec<f64>,
     pub z: &'a mut [f64],
     pub z_prev: &'a mut [f64],
+    /// In: `z_prev` holds exactly the indicators at the end of the stepper's last accepted
+    /// step (the advance continues it, nothing changed since, none was zero there), so they
+    /// are not evaluated there again. Out: whether that holds for the last step taken.
+    pub z_prev_fresh: &'a mut bool,
     pub roots: &'a mut RootScratch,
 }
 
@@ -46,7 +50,7 @@ pub struct Ends<'a> {
 /// the next point. Returns how it ended and whether the next advance may continue the last
 /// step (it may when the advance reached `t1` inside or at the end of a step).
 pub fn step_until(stepper: &mut dyn Stepper, events: Option<&Events>, t1: f64, limit: f64, ends: Ends, budget: &mut usize) -> Result<(Advanced, bool), String> {
-    let Ends { y_end, z, z_prev, roots } = ends;
+    let Ends { y_end, z, z_prev, z_prev_fresh, roots } = ends;
     let (_, t_now, y_now) = stepper.last_step();
     y_end.clear();
     y_end.resize(y_now.len(), 0.0);
@@ -56,11 +60,14 @@ pub fn step_until(stepper: &mut dyn Stepper, events: Option<&Events>, t1: f64, l
         return Ok((Advanced::Reached, true));
     }
     if let Some(ev) = events {
-        let t_ref = if stepper.has_step() { t_now } else { ev.start_at.unwrap_or(t_now) };
-        ev.into(t_ref, y_now, z_prev);
+        if !(*z_prev_fresh && stepper.has_step()) {
+            let t_ref = if stepper.has_step() { t_now } else { ev.start_at.unwrap_or(t_now) };
+            ev.into(t_ref, y_now, z_prev);
+        }
     }
     while *budget > 0 {
         *budget -= 1;
+        *z_prev_fresh = false;
         stepper.step(limit)?;
         let stepper: &dyn Stepper = &*stepper;
         let (ta, tb, yb) = stepper.last_step();
@@ -89,6 +96,7 @@ pub fn step_until(stepper: &mut dyn Stepper, events: Option<&Events>, t1: f64, l
                     *zp = *zi;
                 }
             }
+            *z_prev_fresh = z.iter().all(|zi| *zi != 0.0);
         }
         if t1 <= tb {
             stepper.interpolate(t1, y_end)?;
