@@ -172,14 +172,13 @@ pub fn balance<R: Real>(elements: &[ElementInfo], powers: &[R]) -> (R, R) {
 
 /// Fills in `activity_<name>` and `share_<name>` from the activity states.
 pub(crate) fn write_activity_outputs<R: Real>(elements: &[ElementInfo], states: &[R], calculated: &mut [R]) {
-    let total = |storage: bool| -> R {
-        elements
-            .iter()
-            .filter(|e| e.share_output.is_some() && e.effect.kind.is_storage() == storage)
-            .filter_map(|e| e.activity_state.map(|s| states[s]))
-            .sum()
-    };
-    let (storage_total, dissipation_total) = (total(true), total(false));
+    // The activities the shares are of: storage and dissipation apart.
+    let (mut storage_total, mut dissipation_total) = (R::from(0.0), R::from(0.0));
+    for e in elements.iter().filter(|e| e.share_output.is_some()) {
+        if let Some(s) = e.activity_state {
+            *(if e.effect.kind.is_storage() { &mut storage_total } else { &mut dissipation_total }) += states[s];
+        }
+    }
     for e in elements {
         let Some(s) = e.activity_state else { continue };
         if let Some(y) = e.activity_output {

@@ -47,6 +47,18 @@ impl<const N: usize> TorqueSpeedTable<N> {
     pub const SOURCE: Effect = Effect { domains: &[Domain::Rotational], kind: Kind::Source, what: "motor torque-speed characteristic" };
 }
 
+/// Akima's slope at a point from the slopes of the two segments on either side of it
+/// `[m_-2, m_-1, m_0, m_1]`: the mean of the two nearest weighted by how much the far ones
+/// differ from them (their plain mean where both weights vanish).
+fn akima_slope<R: Real>([m_2, m_1, m0, m1]: [R; 4]) -> R {
+    let (w_left, w_right) = ((m1 - m0).abs(), (m_1 - m_2).abs());
+    if w_left + w_right == 0.0 {
+        (m_1 + m0) * 0.5
+    } else {
+        (w_left * m_1 + w_right * m0) / (w_left + w_right)
+    }
+}
+
 impl<const N: usize, R: Real> TorqueSpeedTable<N, R> {
     /// The slope of segment `i` (between points i and i + 1); beyond the ends, Akima's linear
     /// extension of the segment slopes.
@@ -71,13 +83,7 @@ impl<const N: usize, R: Real> TorqueSpeedTable<N, R> {
             Interpolation::Linear => self.segment_slope(i.min(N - 2) as isize),
             Interpolation::Akima => {
                 let i = i as isize;
-                let (m_2, m_1, m0, m1) = (self.segment_slope(i - 2), self.segment_slope(i - 1), self.segment_slope(i), self.segment_slope(i + 1));
-                let (w_left, w_right) = ((m1 - m0).abs(), (m_1 - m_2).abs());
-                if w_left + w_right == 0.0 {
-                    (m_1 + m0) * 0.5
-                } else {
-                    (w_left * m_1 + w_right * m0) / (w_left + w_right)
-                }
+                akima_slope([self.segment_slope(i - 2), self.segment_slope(i - 1), self.segment_slope(i), self.segment_slope(i + 1)])
             }
         }
     }
@@ -104,7 +110,9 @@ impl<const N: usize, R: Real> TorqueSpeedTable<N, R> {
                 // Cubic Hermite on the segment with the Akima slopes at its ends.
                 let s = (w - x[i]) / h;
                 let one = R::from(1.0);
-                let (d0, d1) = (self.point_slope(i) * h, self.point_slope(i + 1) * h);
+                // The Akima slopes at both ends share three of their four segment slopes.
+                let m: [R; 5] = std::array::from_fn(|j| self.segment_slope(i as isize - 2 + j as isize));
+                let (d0, d1) = (akima_slope([m[0], m[1], m[2], m[3]]) * h, akima_slope([m[1], m[2], m[3], m[4]]) * h);
                 let (h00, h10, h01, h11) = (
                     (one + s * 2.0) * (one - s) * (one - s),
                     s * (one - s) * (one - s),

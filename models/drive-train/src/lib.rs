@@ -112,8 +112,8 @@ impl MotorParameters {
             _ => Interpolation::Linear,
         };
         MotorCurve::Table(TorqueSpeedTable {
-            speed_rad_per_s: self.table_speed.map(|p| k[p]),
-            torque_n_m: self.table_torque.map(|p| k[p]),
+            speed_rad_per_s: std::array::from_fn(|i| k[self.table_speed[i]]),
+            torque_n_m: std::array::from_fn(|i| k[self.table_torque[i]]),
             interpolation,
         })
     }

@@ -28,7 +28,7 @@
 //! T_limit 2500, no actuator lag, no filter, 153.5 rad/s) stays reachable through parameters:
 //! motor_model = 2 with its circuit values, and the rest by value (docs/motor-fan-spec.md).
 
-use components::{FanLoad, Fluxes, InductionMachine, Inertia, PiController, Reducer, SecondOrderFilter, TorqueSpeedTable, TorsionSpring};
+use components::{FanLoad, Fluxes, InductionMachine, Inertia, Reducer, TorqueSpeedTable, TorsionSpring};
 use drive_train::{converter_fed, ControllerParameters, FanParameters, MotorCurve, MotorParameters, SetPoint, ShaftParameters, TorqueActuatorParameters, TorqueLimitEvent};
 use fmu_runtime::prelude::*;
 
@@ -149,13 +149,11 @@ impl Elements {
 struct Train<R = f64> {
     motor: InductionMachine<R>,
     curve: MotorCurve<R>,
-    actuator: Option<SecondOrderFilter<R>>,
     motor_inertia: Inertia<R>,
     shaft: TorsionSpring<R>,
     reducer: Reducer<R>,
     fan_inertia: Inertia<R>,
     fan: FanLoad<R>,
-    controller: PiController<R>,
 }
 
 /// Everything the equations give at one instant; derivatives and outputs both read it.
@@ -167,6 +165,7 @@ struct Operating<R = f64> {
     motor_torque: R,
     current_rms: R,
     electrical_power: R,
+    /// The speed set point; 0 for a direct start unless the outputs are computed.
     reference: R,
     motor_acceleration: R,
     fan_acceleration: R,
@@ -211,13 +210,11 @@ impl MotorFan {
             // Interpolation 0 reads the table as the book's file for the level: Akima at level c
             // (Transient_Resonance), linear at a and b (Steady_State, Transient_Dynamic).
             curve: self.motor.curve(k, self.level(k) >= Level::Elastic),
-            actuator: self.actuator.lag(k),
             motor_inertia: self.motor.rotor(k),
             shaft: self.shaft.spring(k),
             reducer: self.fan.reducer(k),
             fan_inertia: self.fan.inertia(k),
             fan: self.fan.load(k),
-            controller: self.control.controller(k),
         }
     }
 
@@ -236,12 +233,19 @@ impl MotorFan {
     }
 
     /// The whole drive at the knowns `k`. The converter-fed current (a root search on the
-    /// torque curve) only when `with_electrical`: the derivatives do not need it.
+    /// torque curve), and a direct start's set point, only when `with_electrical`: the
+    /// derivatives do not need them.
     fn operate<R: Real>(&self, k: &Knowns<R>, with_electrical: bool) -> Operating<R> {
         let train = self.train(k);
         let (level, start) = (self.level(k), self.start(k));
-        let set_point = self.reference(k);
-        let (reference, reference_rate) = (set_point.reference, set_point.rate);
+        // The set point drives the PI and the inverse simulation; a direct start only shows
+        // it among the outputs.
+        let (reference, reference_rate) = if start != Start::DirectOnLine || with_electrical {
+            let set_point = self.reference(k);
+            (set_point.reference, set_point.rate)
+        } else {
+            (R::from(0.0), R::from(0.0))
+        };
         let mut op = Operating { reference, ..Operating::default() };
         if level == Level::QuasiStatic {
             self.quasi_static(&train, start, &mut op);
@@ -275,9 +279,10 @@ impl MotorFan {
             Start::DirectOnLine => motor_torque = train.curve.torque_n_m(&train.motor, w_m),
             Start::PiControl => {
                 let error = reference - w_m;
-                let command = train.controller.command(error, k[self.pi_integral]);
-                op.integral_rate = train.controller.integral_rate(error, k[self.pi_integral]);
-                motor_torque = match train.actuator {
+                let controller = self.control.controller(k);
+                let command = controller.command(error, k[self.pi_integral]);
+                op.integral_rate = controller.integral_rate(error, k[self.pi_integral]);
+                motor_torque = match self.actuator.lag(k) {
                     // The converter's torque follows the command through its lag.
                     Some(lag) => {
                         let (torque, rate) = (k[self.actuator_torque], k[self.actuator_torque_rate]);
