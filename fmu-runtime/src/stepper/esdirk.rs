@@ -183,6 +183,55 @@ impl Tableau {
     }
 }
 
+impl Tableau {
+    /// ESDIRK5(4)7L\[2\]SA\_2 (C. A. Kennedy, M. H. Carpenter, "Diagonally implicit Runge-Kutta
+    /// methods for stiff ODEs", Applied Numerical Mathematics 146 (2019) 221-244): seven stages
+    /// (six implicit), gamma = 0.184, fifth order, stage order 2, L-stable and stiffly accurate,
+    /// with an embedded fourth-order method. The published coefficients (to double precision).
+    pub fn esdirk547() -> Self {
+        const G: f64 = 0.184;
+        let rows: [&[f64]; 7] = [
+            &[],
+            &[0.184],
+            &[0.22210764773832475, 0.22210764773832475],
+            &[-0.014049475381926283, -0.014049475381926283, -0.01709085093586415],
+            &[-0.40838859254931464, -0.40838859254931464, 0.16646399821362964, 1.1662718062895745],
+            &[-0.5392907235588114, -0.5392907235588114, -0.242234428845425, 1.4888806111225146, 0.5563122281913184],
+            &[-0.03946606910974026, -0.03946606910974026, 0.27263649025024267, 0.4321651725202882, 0.3524160862328891, -0.16228561078393952],
+        ];
+        let d = [
+            0.041223397456907174,
+            0.041223397456907174,
+            0.08973680563680714,
+            -0.08484870124594279,
+            -0.07418364506956521,
+            -0.05795875281680454,
+            0.04480749858169103,
+        ];
+        let mut k = Tableau {
+            name: "ESDIRK5(4)7L[2]SA_2",
+            stages: 7,
+            order: 5,
+            embedded_order: 4,
+            gamma: G,
+            a: [[0.0; MAX_STAGES]; MAX_STAGES],
+            c: [0.0; MAX_STAGES],
+            b: [0.0; MAX_STAGES],
+            d,
+        };
+        for (i, row) in rows.iter().enumerate() {
+            k.a[i][..row.len()].copy_from_slice(row);
+            if i > 0 {
+                k.a[i][i] = G;
+            }
+            k.c[i] = k.a[i].iter().sum();
+        }
+        k.c[6] = 1.0;
+        k.b = k.a[6];
+        k.checked()
+    }
+}
+
 /// The ESDIRK3(2) error estimate's weights are this multiple of a unit vector (see
 /// [`Tableau::second_order_estimate`]); measured on the stiff torsional chain (N = 10, a torque
 /// step, against the matrix exponential): the largest error of any speed in the run, in units of
@@ -313,6 +362,11 @@ mod tests {
             let ac: f64 = (0..k.stages).map(|j| k.a[i][j] * k.c[j]).sum();
             assert!((ac - k.c[i] * k.c[i] / 2.0).abs() < 1e-14, "stage {i}");
         }
+    }
+
+    #[test]
+    fn esdirk547_is_fifth_order_with_a_fourth_order_estimate_stiffly_accurate_and_l_stable() {
+        check(&Tableau::esdirk547());
     }
 
     #[test]

@@ -30,7 +30,7 @@ use crate::rk::StepRecord;
 fn registered(solver: Solver) -> &'static Registration {
     match solver {
         Solver::ExplicitRungeKutta => &explicit::TSITOURAS_54,
-        Solver::ImplicitRungeKutta => &implicit::ESDIRK_34,
+        Solver::ImplicitRungeKutta => &implicit::ESDIRK,
     }
 }
 
