@@ -125,8 +125,8 @@ impl Tableau {
                 + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
         };
         let mut d = [0.0; MAX_STAGES];
-        for j in 0..S {
-            d[j] = if j % 2 == 0 { minor(j) } else { -minor(j) };
+        for (j, dj) in d.iter_mut().take(S).enumerate() {
+            *dj = if j % 2 == 0 { minor(j) } else { -minor(j) };
         }
         let norm = d.iter().map(|x| x * x).sum::<f64>().sqrt();
         d.map(|x| scale * x / norm)
@@ -175,9 +175,9 @@ impl Tableau {
             }
             k.c[i] = c[i];
         }
-        for j in 0..6 {
-            k.b[j] = k.a[5][j];
-            k.d[j] = k.b[j] - b_hat[j];
+        k.b = k.a[5];
+        for ((d, b), b_hat) in k.d.iter_mut().zip(&k.b).zip(&b_hat) {
+            *d = b - b_hat;
         }
         k.checked()
     }
