@@ -2,6 +2,7 @@
 //! gamma, stiffly accurate (the last stage is the step's end, at c = 1), L-stable, with an
 //! embedded method for the error estimate.
 
+#[cfg(test)]
 use diffsol::Tableau as DiffsolTableau;
 
 /// The most stages a tableau here has.
@@ -58,7 +59,8 @@ impl Tableau {
     /// ESDIRK3(2): the four stages of diffsol's `Tableau::esdirk34` (L-stable, stiffly
     /// accurate, third order) with an embedded L-stable second-order method of our own
     /// (`second_order_estimate`) in place of diffsol's. The implicit method's until it
-    /// became [`Self::esdirk436`]; kept to compare against (and for its tests).
+    /// became [`Self::esdirk547`]; kept for its tests and to compare against.
+    #[cfg(test)]
     pub fn esdirk32() -> Self {
         let t = DiffsolTableau::<f64>::esdirk34();
         let s = t.s();
@@ -100,6 +102,7 @@ impl Tableau {
     /// limit u of (I - z A)^-1 (1, ..., 1) as z -> -infinity (so b_hat's stability function
     /// 1 + z b_hat' (I - z A)^-1 1 stays bounded, and, as b's, vanishes there): an estimate of
     /// order h^3, `scale` times a unit vector.
+    #[cfg(test)]
     fn second_order_estimate(&self, scale: f64) -> [f64; MAX_STAGES] {
         const S: usize = 4;
         assert_eq!(self.stages, S);
@@ -138,6 +141,9 @@ impl Tableau {
     /// 139-181, table of ARK4(3)6L\[2\]SA): six stages (five implicit), gamma = 1/4, fourth order,
     /// stage order 2, L-stable and stiffly accurate, with an embedded third-order method whose
     /// stability function stays bounded at infinity. The published rational coefficients.
+    /// Measured against [`Self::esdirk547`] on the stiff chain (issue 25): about its cost, ten
+    /// times its error; kept for its tests.
+    #[cfg(test)]
     pub fn esdirk436() -> Self {
         const G: f64 = 1.0 / 4.0;
         let rows: [&[f64]; 6] = [
@@ -237,6 +243,7 @@ impl Tableau {
 /// step, against the matrix exponential): the largest error of any speed in the run, in units of
 /// the tolerance times the largest speed, at rtol 1e-6 / 1e-8 / 1e-11: 4.6 / 5.8 / 7.4 with 0.1,
 /// 1.4 / 2.1 / 2.6 with 0.3, 0.5 / 0.7 / 0.8 with 1.0 (diffsol's own weights: 3.4 / 16 / 108).
+#[cfg(test)]
 const ESDIRK32_ERROR_SCALE: f64 = 0.3;
 
 #[cfg(test)]

@@ -5,9 +5,11 @@
 //! Jacobian and factorization are kept from step to step and from one advance to the next while
 //! Newton converges ([`jacobian`]: dense for small models, sparse with faer's LU for large ones).
 //! Until issue 25's second part it was ESDIRK3(2) (the four stages of diffsol's `esdirk34` with
-//! an error estimate of our own, [`Tableau::esdirk32`]): on the stiff torsional chain at the
-//! default tolerance the fifth-order method takes about 1.7 steps per 1 ms doStep at N = 1 000
-//! where ESDIRK3(2) took 11, and its error is about 10 times smaller (BENCHMARKS.md).
+//! an error estimate of our own, `Tableau::esdirk32`, now only in the tests): on the stiff
+//! torsional chain at the default tolerance the fifth-order method takes about 1.7 steps per
+//! 1 ms doStep at N = 1 000 where ESDIRK3(2) took 11, costs about 0.3 of its time, and its error
+//! is about 10 times smaller (BENCHMARKS.md); it was nowhere measured worse (N = 3 to 1 000,
+//! rtol 1e-8 and 1e-6).
 //!
 //! Each stage z_i = y + h sum_j a_ij k_j + h gamma k_i, k_i = f(t + c_i h, z_i) is solved with
 //! the Newton matrix I - h' gamma J, J evaluated at some earlier point and h' the step size it
@@ -63,16 +65,10 @@ const MAX_REJECTIONS: usize = 40;
 const MIN_STEP: f64 = 1e-13;
 
 
-/// The tableau: [`Tableau::esdirk547`], or for the benchmark that compares them the
-/// environment's `FMU_RUNTIME_ESDIRK`: `32` ([`Tableau::esdirk32`], the method before) or `436`
-/// ([`Tableau::esdirk436`]), read once per process. Not meant for users.
+/// The tableau, made once per process.
 fn tableau() -> &'static Tableau {
-    static CHOSEN: std::sync::OnceLock<Tableau> = std::sync::OnceLock::new();
-    CHOSEN.get_or_init(|| match std::env::var("FMU_RUNTIME_ESDIRK").as_deref() {
-        Ok("32") => Tableau::esdirk32(),
-        Ok("436") => Tableau::esdirk436(),
-        _ => Tableau::esdirk547(),
-    })
+    static MADE: std::sync::OnceLock<Tableau> = std::sync::OnceLock::new();
+    MADE.get_or_init(Tableau::esdirk547)
 }
 
 /// Per instance: the Jacobian and its factors (kept between advances), the step size, the
