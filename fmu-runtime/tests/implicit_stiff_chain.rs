@@ -248,6 +248,22 @@ fn the_stiff_chain_at_the_default_tolerance_through_a_torque_step_on_either_side
     }
 }
 
+/// The same at 60 inertias (119 states: the sparse Newton matrix), the torque step inside a
+/// doStep, written `t >= step_time`: every speed within 10 x rtol of the largest one at every
+/// communication point.
+#[test]
+fn the_sparse_stiff_chain_at_the_default_tolerance_through_a_torque_step() {
+    const N: usize = 60;
+    assert!(2 * N - 1 >= fmu_runtime::stepper::jacobian::DENSE_BELOW);
+    let (stop, step_time) = (0.2, 0.1005);
+    let reference = exact(N, (1e-4, 1e5, 10.0, 1.0), 100.0, step_time, stop);
+    let parameters = [STIFF[0], STIFF[1], STIFF[2], ("step_time", step_time)];
+    let got = run(&mut chain::<Chain<N, true, true>>(&parameters), N, stop);
+    let error = speed_error(&got, &reference, N);
+    eprintln!("stiff chain N = {N}, step at {step_time} s: error {:.2} x rtol", error / DEFAULT_RTOL);
+    assert!(error < 10.0 * DEFAULT_RTOL, "{error:e} of the largest speed");
+}
+
 /// The same steps with the explicit method (the non-stiff chain: the model's defaults).
 #[test]
 fn the_explicit_method_through_the_same_torque_step_on_either_side() {

@@ -1,10 +1,15 @@
-//! The implicit method, for stiff models: the stages of diffsol's `Tableau::esdirk34` (four
-//! stages, the first explicit, one diagonal gamma, L-stable and stiffly accurate, third order)
-//! with an error estimate of our own (an embedded L-stable second-order method:
-//! [`Coefficients::second_order_estimate`]), stepped by our own loop with a simplified Newton
-//! iteration whose Jacobian and factorization are kept from step to step and from one advance
-//! to the next while Newton converges ([`jacobian`]: dense for small models, sparse with faer's
-//! LU for large ones).
+//! The implicit method, for stiff models: an ESDIRK (explicit first stage, one diagonal gamma,
+//! stiffly accurate, L-stable; [`Tableau`]), Kennedy and Carpenter's ESDIRK5(4)7L\[2\]SA\_2
+//! ([`Tableau::esdirk547`]: seven stages, six of them implicit, fifth order with an embedded
+//! fourth-order error estimate), stepped by our own loop with a simplified Newton iteration whose
+//! Jacobian and factorization are kept from step to step and from one advance to the next while
+//! Newton converges ([`jacobian`]: dense for small models, sparse with faer's LU for large ones).
+//! Until issue 25's second part it was ESDIRK3(2) (the four stages of diffsol's `esdirk34` with
+//! an error estimate of our own, `Tableau::esdirk32`, now only in the tests): on the stiff
+//! torsional chain at the default tolerance the fifth-order method takes about 1.7 steps per
+//! 1 ms doStep at N = 1 000 where ESDIRK3(2) took 11, costs about 0.3 of its time, and its error
+//! is about 10 times smaller (BENCHMARKS.md); it was nowhere measured worse (N = 3 to 1 000,
+//! rtol 1e-8 and 1e-6).
 //!
 //! Each stage z_i = y + h sum_j a_ij k_j + h gamma k_i, k_i = f(t + c_i h, z_i) is solved with
 //! the Newton matrix I - h' gamma J, J evaluated at some earlier point and h' the step size it
@@ -29,30 +34,18 @@
 
 use std::sync::Arc;
 
-use diffsol::Tableau;
-
+use super::esdirk::Tableau;
 use super::jacobian::{self, Factors, Structure, StructureKey, Work};
 use super::{JacobianPoint, Method, Ode, Outcome, Registration, Setup, Stepper};
 
 /// [`Solver::ImplicitRungeKutta`](crate::model::Solver::ImplicitRungeKutta).
-pub static ESDIRK_34: Registration = Registration {
-    description: "singly diagonally implicit Runge-Kutta ESDIRK3(2) (the stages of diffsol's <code>esdirk34</code>, an L-stable \
-                  second-order error estimate; Newton iteration with a kept exact Jacobian (dual numbers, by colors), dense or sparse LU)",
-    make: |s| Box::new(Esdirk34::new(s)),
+pub static ESDIRK: Registration = Registration {
+    description: "singly diagonally implicit Runge-Kutta ESDIRK5(4)7L[2]SA_2 (Kennedy and Carpenter 2019: fifth order, L-stable, \
+                  stiffly accurate, an embedded fourth-order error estimate; Newton iteration with a kept exact Jacobian (dual numbers, \
+                  by colors), dense or sparse LU)",
+    make: |s| Box::new(Esdirk::new(s)),
 };
 
-const STAGES: usize = 4;
-/// The method's order: diffsol's first-step heuristic is given it.
-const ORDER: usize = 3;
-/// The order of the error estimate (that of an embedded second-order method, see
-/// [`Coefficients::second_order_estimate`]): the step-size controller takes norm^(-1 / ERROR_ORDER).
-const ERROR_ORDER: usize = 3;
-/// The error estimate's weights are this multiple of a unit vector (see
-/// [`Coefficients::second_order_estimate`]); measured on the stiff torsional chain (N = 10, a torque step,
-/// against the matrix exponential): the largest error of any speed in the run, in units of the
-/// tolerance times the largest speed, at rtol 1e-6 / 1e-8 / 1e-11: 4.6 / 5.8 / 7.4 with 0.1,
-/// 1.4 / 2.1 / 2.6 with 0.3, 0.5 / 0.7 / 0.8 with 1.0 (diffsol's own weights: 3.4 / 16 / 108).
-const ERROR_SCALE: f64 = 0.3;
 /// Newton iterations per stage before it counts as not converging.
 const MAX_NEWTON: usize = 7;
 /// Newton has converged when its predicted remaining error is below this fraction of the
@@ -71,88 +64,18 @@ const NEWTON_FAILURE_FACTOR: f64 = 0.25;
 const MAX_REJECTIONS: usize = 40;
 const MIN_STEP: f64 = 1e-13;
 
-/// The method's coefficients in the natural orientation.
-struct Coefficients {
-    gamma: f64,
-    a: [[f64; STAGES]; STAGES],
-    c: [f64; STAGES],
-    /// b - b_hat: the error estimate's weights.
-    d: [f64; STAGES],
-}
 
-impl Coefficients {
-    fn esdirk34() -> Self {
-        let t = Tableau::<f64>::esdirk34();
-        assert_eq!(t.s(), STAGES);
-        assert_eq!(t.order(), ORDER);
-        let mut k = Coefficients { gamma: t.a(1, 1), a: [[0.0; STAGES]; STAGES], c: [0.0; STAGES], d: [0.0; STAGES] };
-        for i in 0..STAGES {
-            for j in 0..STAGES {
-                k.a[i][j] = t.a(i, j);
-            }
-            k.c[i] = t.c().as_slice()[i];
-            k.d[i] = t.d().as_slice()[i];
-        }
-        // An explicit first stage, one diagonal gamma, stiffly accurate (the last stage is the
-        // step's end), the last stage at the step's end.
-        assert!(k.c[0] == 0.0 && k.a[0][0] == 0.0);
-        assert!((1..STAGES).all(|i| k.a[i][i] == k.gamma));
-        assert!((0..STAGES).all(|j| k.a[STAGES - 1][j] == t.b().as_slice()[j]));
-        assert_eq!(k.c[STAGES - 1], 1.0);
-        k.d = k.second_order_estimate();
-        k
-    }
-
-    /// The error estimate's weights d = b - b_hat of an embedded second-order method b_hat whose
-    /// stability function stays bounded (and vanishes) at infinity, in place of diffsol's d.
-    ///
-    /// diffsol's b_hat is of order 4 but its stability function grows like |h lambda|, so its
-    /// estimate of a stiff component is meaningless (the filter (I - h gamma J)^-1 only brings it
-    /// back to the component's size); and where the solution's stiff components are excited (a
-    /// torque step on the stiff chain) the method's local error is of order h^3 (its stages are
-    /// of order 2), which an estimate of order h^4 underrates more the tighter the tolerance: the
-    /// stiff chain's error was 3.4, 16 and 108 times the tolerance at rtol 1e-6, 1e-8 and 1e-11.
-    /// Here d is orthogonal to (1, ..., 1), to c (b_hat is of order 2, as b is) and to the
-    /// limit u of (I - z A)^-1 (1, ..., 1) as z -> -infinity (so b_hat's stability function
-    /// 1 + z b_hat' (I - z A)^-1 1 stays bounded, and, as b's, vanishes there): an estimate of
-    /// order h^3, [`ERROR_SCALE`] times a unit vector.
-    fn second_order_estimate(&self) -> [f64; STAGES] {
-        // u_0 = 1; u_i = -(sum_{j < i} a_ij u_j) / gamma.
-        let mut u = [1.0; STAGES];
-        for i in 1..STAGES {
-            u[i] = -(0..i).map(|j| self.a[i][j] * u[j]).sum::<f64>() / self.gamma;
-        }
-        let rows = [[1.0; STAGES], self.c, u];
-        // The vector orthogonal to three rows of four: the signed 3 x 3 minors.
-        let minor = |skip: usize| {
-            let m: Vec<[f64; 3]> = rows.iter().map(|r| {
-                let mut v = [0.0; 3];
-                let mut k = 0;
-                for (j, x) in r.iter().enumerate() {
-                    if j != skip {
-                        v[k] = *x;
-                        k += 1;
-                    }
-                }
-                v
-            }).collect();
-            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-        };
-        let mut d = [0.0; STAGES];
-        for (j, dj) in d.iter_mut().enumerate() {
-            *dj = if j % 2 == 0 { minor(j) } else { -minor(j) };
-        }
-        let norm = d.iter().map(|x| x * x).sum::<f64>().sqrt();
-        d.map(|x| ERROR_SCALE * x / norm)
-    }
+/// The tableau, made once per process.
+fn tableau() -> &'static Tableau {
+    static MADE: std::sync::OnceLock<Tableau> = std::sync::OnceLock::new();
+    MADE.get_or_init(Tableau::esdirk547)
 }
 
 /// Per instance: the Jacobian and its factors (kept between advances), the step size, the
 /// current point and last step, and the work vectors (sized once).
-struct Esdirk34 {
+struct Esdirk {
     n: usize,
-    k: Coefficients,
+    k: &'static Tableau,
     rtol: f64,
     atol: Vec<f64>,
     key: StructureKey,
@@ -192,13 +115,13 @@ struct Esdirk34 {
     weights: Vec<f64>,
 }
 
-impl Esdirk34 {
+impl Esdirk {
     fn new(s: &Setup) -> Self {
         let n = s.n_states;
         let v = || vec![0.0; n];
-        Esdirk34 {
+        Esdirk {
             n,
-            k: Coefficients::esdirk34(),
+            k: tableau(),
             rtol: s.rtol,
             atol: s.atol.to_vec(),
             key: s.structure.clone(),
@@ -218,7 +141,7 @@ impl Esdirk34 {
             f_start: v(),
             f_end: v(),
             has_step: false,
-            stages: vec![0.0; STAGES * n],
+            stages: vec![0.0; tableau().stages * n],
             psi: v(),
             z: v(),
             r: v(),
@@ -281,7 +204,8 @@ impl Esdirk34 {
         let n = self.n;
         let (t, hg) = (self.t_end, h * self.k.gamma);
         self.stages[..n].copy_from_slice(&self.f_end);
-        for i in 1..STAGES {
+        let last = self.k.stages - 1;
+        for i in 1..=last {
             // psi = y + h sum_{j < i} a_ij k_j
             self.psi.copy_from_slice(&self.y_end);
             for j in 0..i {
@@ -292,7 +216,7 @@ impl Esdirk34 {
                     }
                 }
             }
-            let ti = if i == STAGES - 1 { t_new } else { t + self.k.c[i] * h };
+            let ti = if i == last { t_new } else { t + self.k.c[i] * h };
             if self.has_step {
                 // Start from the last step's interpolant, extrapolated.
                 hermite(self.t_start, self.t_end, &self.y_start, &self.y_end, &self.f_start, &self.f_end, ti, &mut self.z);
@@ -363,7 +287,7 @@ impl Esdirk34 {
     fn error_norm(&mut self, h: f64) -> f64 {
         let n = self.n;
         self.err.fill(0.0);
-        for j in 0..STAGES {
+        for j in 0..self.k.stages {
             let w = h * self.k.d[j];
             for (e, kj) in self.err.iter_mut().zip(&self.stages[j * n..(j + 1) * n]) {
                 *e += w * kj;
@@ -441,7 +365,7 @@ impl Esdirk34 {
                 continue;
             }
             let norm = self.error_norm(h);
-            let factor = if norm.is_finite() { SAFETY * norm.powf(-1.0 / ERROR_ORDER as f64) } else { MIN_FACTOR };
+            let factor = if norm.is_finite() { SAFETY * norm.powf(-1.0 / (self.k.embedded_order + 1) as f64) } else { MIN_FACTOR };
             if norm <= 1.0 {
                 let factor = factor.min(MAX_FACTOR);
                 let factor = if (1.0..KEEP_BELOW).contains(&factor) { 1.0 } else { factor };
@@ -463,7 +387,7 @@ impl Esdirk34 {
         std::mem::swap(&mut self.y_start, &mut self.y_end);
         self.y_end.copy_from_slice(&self.z);
         std::mem::swap(&mut self.f_start, &mut self.f_end);
-        self.f_end.copy_from_slice(&self.stages[(STAGES - 1) * n..]);
+        self.f_end.copy_from_slice(&self.stages[(self.k.stages - 1) * n..]);
         self.t_start = t;
         self.t_end = t_new;
         self.has_step = true;
@@ -471,7 +395,7 @@ impl Esdirk34 {
     }
 }
 
-impl Method for Esdirk34 {
+impl Method for Esdirk {
     fn integrates_activities(&self) -> bool {
         false
     }
@@ -508,7 +432,7 @@ fn hermite(t0: f64, t1: f64, y0: &[f64], y1: &[f64], f0: &[f64], f1: &[f64], t: 
 
 /// The method over one advance's ODE.
 struct Advancing<'a> {
-    m: &'a mut Esdirk34,
+    m: &'a mut Esdirk,
     ode: Ode<'a>,
 }
 
@@ -544,7 +468,7 @@ impl Stepper for Advancing<'_> {
         m.has_step = false;
         m.h = match h {
             Some(h) => h,
-            None => ode.first_step_size(t, x, &m.f_end, ORDER),
+            None => ode.first_step_size(t, x, &m.f_end, m.k.order),
         };
         Ok(())
     }

@@ -13,6 +13,7 @@
 //! `pub mod` line and its line in `registered`; its variant in [`Solver`] (docs/DESIGN.md,
 //! "Adding a solver method").
 
+pub mod esdirk;
 pub mod events;
 pub mod explicit;
 pub mod implicit;
@@ -29,7 +30,7 @@ use crate::rk::StepRecord;
 fn registered(solver: Solver) -> &'static Registration {
     match solver {
         Solver::ExplicitRungeKutta => &explicit::TSITOURAS_54,
-        Solver::ImplicitRungeKutta => &implicit::ESDIRK_34,
+        Solver::ImplicitRungeKutta => &implicit::ESDIRK,
     }
 }
 
