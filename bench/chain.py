@@ -729,7 +729,7 @@ def report(results: dict, meta: dict) -> str:
         f"- {meta['machine']}",
         f"- explicit: the model's defaults (J = 1 kg m2, K = 1e4 N m/rad, D = 1 N m s/rad, c_load = 1, drive_torque = 100 N m at "
         f"step_time = 0.1 s), Solver::ExplicitRungeKutta (tsit45), default tolerance 1e-8; stiff: J = {STIFF['J']:g}, "
-        f"K = {STIFF['K']:g}, D = {STIFF['D']:g} (the rest as above), the copy with Solver::ImplicitRungeKutta (esdirk34)",
+        f"K = {STIFF['K']:g}, D = {STIFF['D']:g} (the rest as above), the copy with Solver::ImplicitRungeKutta (ESDIRK5(4)7L[2]SA_2)",
         "- 1 s at 1 ms (1000 doSteps + fmi2GetReal of the two outputs), CPU time of the thread, median of up to "
         f"{meta['repeats']} runs; a run whose doSteps would pass {meta['step_budget']:g} s of CPU is cut and extrapolated (marked *)",
         "",
