@@ -191,18 +191,21 @@ impl BandLu {
     pub fn solve(&mut self, gather: &[usize], x: &mut [f64]) {
         let (n, kl, kv) = (self.n, self.kl, self.kl + self.ku);
         let w = &mut self.work;
-        for (wk, &g) in w.iter_mut().zip(gather) {
-            *wk = x[g];
-        }
-        w[n..].fill(0.0);
-        // L y = P b: the interchanges and multipliers step by step (dgbtrs), y into w.
+        // L y = P b: the interchanges and multipliers step by step (dgbtrs), b gathered from x
+        // in band order, y into w.
+        let (pivots, l) = (&self.pivots, &self.l);
         match kl {
-            0 => {}
-            1 => forward::<1>(n, &self.pivots, &self.l, w),
-            2 => forward::<2>(n, &self.pivots, &self.l, w),
-            3 => forward::<3>(n, &self.pivots, &self.l, w),
-            4 => forward::<4>(n, &self.pivots, &self.l, w),
-            _ => forward_any(n, kl, &self.pivots, &self.l, w),
+            1 => forward::<1>(n, pivots, l, gather, x, w),
+            2 => forward::<2>(n, pivots, l, gather, x, w),
+            3 => forward::<3>(n, pivots, l, gather, x, w),
+            4 => forward::<4>(n, pivots, l, gather, x, w),
+            _ => {
+                for (wk, &g) in w.iter_mut().zip(gather) {
+                    *wk = x[g];
+                }
+                w[n..].fill(0.0);
+                forward_any(n, kl, pivots, l, w);
+            }
         }
         // U x = y from the last row, in blocks for small bandwidths.
         let (u, d, blocks) = (&self.u, &self.inverse_diagonal, &self.blocks);
@@ -230,13 +233,16 @@ impl BandLu {
 // 5.0 ns with U in blocks (`examples/newton_solve.rs`, with flush-to-zero); faer's sparse LU
 // 11.5 ns.
 
-/// L y = P b in place for lower bandwidth KL (>= 1): w holds b in band order with at least KL + 1
-/// zeros past n; y into w[..n].
-fn forward<const KL: usize>(n: usize, pivots: &[usize], l: &[f64], w: &mut [f64]) {
+/// L y = P b for lower bandwidth KL (>= 1), b = x gathered in band order (`gather`), read as the
+/// elimination reaches its rows; y into w[..n].
+fn forward<const KL: usize>(n: usize, pivots: &[usize], l: &[f64], gather: &[usize], x: &[f64], w: &mut [f64]) {
+    let b = |k: usize| if k < n { x[gather[k]] } else { 0.0 };
     // Rows k (head) and k + 1 ..= k + KL (rest) as the elimination reaches step k.
-    let mut head = w[0];
+    let mut head = b(0);
     let mut rest = [0.0; KL];
-    rest.copy_from_slice(&w[1..=KL]);
+    for (i, r) in rest.iter_mut().enumerate() {
+        *r = b(i + 1);
+    }
     for (k, multipliers) in l.chunks_exact(KL).enumerate().take(n) {
         let d = pivots[k] - k;
         for (i, r) in rest.iter_mut().enumerate() {
@@ -250,7 +256,7 @@ fn forward<const KL: usize>(n: usize, pivots: &[usize], l: &[f64], w: &mut [f64]
         for i in 1..KL {
             rest[i - 1] = rest[i] - multipliers[i] * y;
         }
-        rest[KL - 1] = w[k + KL + 1];
+        rest[KL - 1] = b(k + KL + 1);
     }
 }
 
@@ -482,10 +488,10 @@ mod tests {
                     window[k] = b[gather[k]];
                 }
                 match kl {
-                    1 => forward::<1>(n, &lu.pivots, &lu.l, &mut window),
-                    2 => forward::<2>(n, &lu.pivots, &lu.l, &mut window),
-                    3 => forward::<3>(n, &lu.pivots, &lu.l, &mut window),
-                    4 => forward::<4>(n, &lu.pivots, &lu.l, &mut window),
+                    1 => forward::<1>(n, &lu.pivots, &lu.l, &gather, &b, &mut window),
+                    2 => forward::<2>(n, &lu.pivots, &lu.l, &gather, &b, &mut window),
+                    3 => forward::<3>(n, &lu.pivots, &lu.l, &gather, &b, &mut window),
+                    4 => forward::<4>(n, &lu.pivots, &lu.l, &gather, &b, &mut window),
                     _ => forward_any(n, kl, &lu.pivots, &lu.l, &mut window),
                 }
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
