@@ -18,6 +18,15 @@
 //! Deterministic: the same matrix gives the same factors and solutions bit for bit (one thread,
 //! a fixed order of operations). No allocation after [`BandLu::new`].
 
+/// Whether a band of these bandwidths is solved by the fast loops (L's rows in registers, U in
+/// blocks); wider bands are solved row by row through memory.
+pub fn fast(kl: usize, ku: usize) -> bool {
+    kl <= MAX_WINDOW_L && kl + ku <= MAX_BLOCKED
+}
+
+/// L's rows are kept in registers up to this lower bandwidth.
+const MAX_WINDOW_L: usize = 4;
+
 /// A band LU factorization and its work space.
 pub struct BandLu {
     n: usize,

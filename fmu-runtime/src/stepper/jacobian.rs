@@ -82,8 +82,20 @@ pub const DENSE_BELOW_MEASURED: &[(usize, f64, f64)] =
 
 /// A pattern is factorized as a band (reordered by reverse Cuthill-McKee) when the band LU's
 /// storage, n (2 kl + ku + 1) entries, is less than this many times the entries of faer's
-/// sparse factors of a trial matrix (`Structure::trial_fill`); else by faer's sparse LU.
-pub const BAND_BELOW_FILL: f64 = 2.0;
+/// sparse factors of a trial matrix (`Structure::trial_fill`), and its bandwidths are those of
+/// the band LU's fast solves ([`band::fast`]); else by faer's sparse LU. Measured with
+/// `examples/newton_solve.rs` (one solve, with flush-to-zero, on the shared 2-core machine): the
+/// stiff chain at 1 999 states (kl = ku = 2: 7 band entries per state against 5.0 in the sparse
+/// factors) solves in 4.5-5.0 ns per state as a band, 11.5 ns sparse (0.7 ns per band entry,
+/// 2.3 per sparse one: even at 3 times the entries the band would be faster; 2 leaves a margin).
+pub const BAND_BELOW_FILL_FAST: f64 = 2.0;
+
+/// The same for bandwidths beyond the band LU's fast solves (row by row through memory): a stiff
+/// M x M grid (5-point Laplacian, `newton_solve grid M`: kl = ku = M) costs about the same per
+/// entry either way, 0.8-0.9 ns (band: 29, 53, 81, 108 ns per state for M = 10, 20, 30, 45 with
+/// 31, 61, 91, 136 entries; sparse: 15, 23, 30, 36 ns with 15.6, 25.3, 33.9, 44.2), so the band
+/// only when it holds fewer entries.
+pub const BAND_BELOW_FILL: f64 = 1.0;
 
 /// A probed pattern with more than this fraction of its n^2 entries set is factorized dense.
 pub const DENSE_ABOVE_FILL: f64 = 0.25;
@@ -112,6 +124,9 @@ pub struct Structure {
     /// Where the diagonal entry of each column sits in `row_idx`.
     diagonal: Vec<usize>,
     layout: Layout,
+    /// The entries of faer's sparse factors of the trial matrix with the better ordering (None:
+    /// not tried).
+    sparse_fill: Option<usize>,
 }
 
 /// How the Newton matrix is factorized.
@@ -134,13 +149,14 @@ impl Structure {
         let color_ptr = (0..=n).collect();
         let color_cols = (0..n).collect();
         let diagonal = (0..n).map(|j| j * n + j).collect();
-        Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, layout: Layout::Dense }
+        Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, layout: Layout::Dense, sparse_fill: None }
     }
 
     /// A sparse structure from each column's rows (any order, the diagonal added): colored, and
     /// factorized dense when the pattern fills more than [`DENSE_ABOVE_FILL`], as a band when
-    /// its reverse Cuthill-McKee band holds fewer than [`BAND_BELOW_FILL`] times the entries of
-    /// faer's sparse factors, else by faer's sparse LU ([`forced`] may force either).
+    /// its reverse Cuthill-McKee band holds fewer than [`BAND_BELOW_FILL_FAST`] (bandwidths of
+    /// the band LU's fast solves) or [`BAND_BELOW_FILL`] (wider) times the entries of faer's
+    /// sparse factors, else by faer's sparse LU ([`forced`] may force either).
     pub fn sparse(n: usize, columns: Vec<Vec<usize>>) -> Result<Structure, String> {
         Structure::choose(n, columns, forced())
     }
@@ -168,7 +184,7 @@ impl Structure {
         }
         drop(columns);
         let (color_ptr, color_cols) = color(n, &col_ptr, &row_idx);
-        let mut s = Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, layout: Layout::Dense };
+        let mut s = Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, layout: Layout::Dense, sparse_fill: None };
         let rcm = reverse_cuthill_mckee(n, &s.col_ptr, &s.row_idx);
         let (kl, ku) = s.bandwidths(&rcm.1);
         if force == Some(Forced::Band) {
@@ -195,8 +211,10 @@ impl Structure {
             }
         }
         let (ordering, fill) = best.expect("two orderings tried");
+        s.sparse_fill = Some(fill);
         let band_entries = n * (2 * kl + ku + 1);
-        s.layout = if force != Some(Forced::Sparse) && (band_entries as f64) < BAND_BELOW_FILL * fill as f64 {
+        let ratio = if band::fast(kl, ku) { BAND_BELOW_FILL_FAST } else { BAND_BELOW_FILL };
+        s.layout = if force != Some(Forced::Sparse) && (band_entries as f64) < ratio * fill as f64 {
             s.band_layout(rcm.0, kl, ku)
         } else {
             Layout::Sparse { ordering }
@@ -254,6 +272,11 @@ impl Structure {
             Layout::Band { .. } => "band",
             Layout::Sparse { .. } => "sparse",
         }
+    }
+
+    /// The entries of faer's sparse factors of the trial matrix (`trial_fill`), when tried.
+    pub fn sparse_fill(&self) -> Option<usize> {
+        self.sparse_fill
     }
 
     /// The band's lower and upper bandwidths, when the Newton matrix is factorized as a band.
@@ -713,6 +736,53 @@ mod tests {
                 assert!((s - d).abs() < 1e-12 * (1.0 + d.abs()), "{s} {d}");
             }
         }
+    }
+
+    /// The switch between band and sparse LU on the two patterns that measured it
+    /// ([`BAND_BELOW_FILL_FAST`], [`BAND_BELOW_FILL`]): the chain (speeds, then twists, as the
+    /// model declares them) is a band of width 2 either side after reverse Cuthill-McKee; a
+    /// 10 x 10 grid's band (10 either side, 31 entries per row) holds twice the sparse factors'
+    /// entries, and its solve measured twice as slow as a band.
+    #[test]
+    fn a_narrow_band_is_factorized_as_a_band_a_wide_one_sparse() {
+        let n = 200;
+        let m = 2 * n - 1;
+        let mut chain = vec![Vec::new(); m];
+        for i in 0..n {
+            // d w_i / dt: the speeds i - 1, i, i + 1 and the twists i - 1, i; d theta_i / dt: w_i, w_i+1.
+            for j in [i.wrapping_sub(1), i, i + 1] {
+                if j < n {
+                    chain[j].push(i);
+                }
+            }
+            for t in [i.wrapping_sub(1), i] {
+                if t < n - 1 {
+                    chain[n + t].push(i);
+                }
+            }
+            if i < n - 1 {
+                chain[i].push(n + i);
+                chain[i + 1].push(n + i);
+            }
+        }
+        let s = Structure::sparse(m, chain).unwrap();
+        assert_eq!((s.kind(), s.band()), ("band", Some((2, 2))));
+        let side = 10;
+        let mut grid = vec![Vec::new(); side * side];
+        for i in 0..side {
+            for j in 0..side {
+                let k = i * side + j;
+                for (di, dj) in [(0, 1), (1, 0)] {
+                    if i + di < side && j + dj < side {
+                        let other = (i + di) * side + j + dj;
+                        grid[k].push(other);
+                        grid[other].push(k);
+                    }
+                }
+            }
+        }
+        let s = Structure::sparse(side * side, grid).unwrap();
+        assert_eq!(s.kind(), "sparse");
     }
 
     #[test]
