@@ -3,7 +3,8 @@
 //! ([`Tableau::esdirk547`]: seven stages, six of them implicit, fifth order with an embedded
 //! fourth-order error estimate), stepped by our own loop with a simplified Newton iteration whose
 //! Jacobian and factorization are kept from step to step and from one advance to the next while
-//! Newton converges ([`jacobian`]: dense for small models, sparse with faer's LU for large ones).
+//! Newton converges ([`jacobian`]: dense for small models, a band LU or faer's sparse LU for large
+//! ones).
 //! Until issue 25's second part it was ESDIRK3(2) (the four stages of diffsol's `esdirk34` with
 //! an error estimate of our own, `Tableau::esdirk32`, now only in the tests): on the stiff
 //! torsional chain at the default tolerance the fifth-order method takes about 1.7 steps per
@@ -42,7 +43,7 @@ use super::{JacobianPoint, Method, Ode, Outcome, Registration, Setup, Stepper};
 pub static ESDIRK: Registration = Registration {
     description: "singly diagonally implicit Runge-Kutta ESDIRK5(4)7L[2]SA_2 (Kennedy and Carpenter 2019: fifth order, L-stable, \
                   stiffly accurate, an embedded fourth-order error estimate; Newton iteration with a kept exact Jacobian (dual numbers, \
-                  by colors), dense or sparse LU)",
+                  by colors), dense, band or sparse LU)",
     make: |s| Box::new(Esdirk::new(s)),
 };
 
