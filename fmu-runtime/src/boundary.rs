@@ -144,7 +144,8 @@ pub struct Refusal {
 
 /// Runs `body` on the instance behind `c` if `legal` lets it (`None`: no live instance there).
 /// A failure is reported through the logger with the function's name; a panic moves the
-/// instance to the Fatal phase.
+/// instance to the Fatal phase. Inside, subnormal numbers are flushed to zero
+/// ([`crate::float_mode`]); the master's mode is back on return.
 pub unsafe fn guarded<M: Model>(
     c: *mut std::ffi::c_void,
     name: &str,
@@ -152,24 +153,29 @@ pub unsafe fn guarded<M: Model>(
     body: impl FnOnce(&mut Component<M>) -> CallResult,
 ) -> Option<Status> {
     let comp = Component::<M>::from_raw(c)?;
-    if let Err(refusal) = legal(&comp.instance) {
+    let flushing = crate::float_mode::FlushSubnormals::enter();
+    comp.instance.logger.set_master_mode(Some(flushing.master_mode()));
+    let status = if let Err(refusal) = legal(&comp.instance) {
         comp.instance.logger.log(refusal.status, &format!("{name} {}", refusal.message));
-        return Some(refusal.status);
-    }
-    Some(match catch_unwind(AssertUnwindSafe(|| body(comp))) {
-        Ok(Ok(())) => Status::Ok,
-        Ok(Err(failure)) => {
-            let status = failure.status;
-            comp.instance.report(&Failure { message: format!("{name}: {}", failure.message), ..failure });
-            status
+        refusal.status
+    } else {
+        match catch_unwind(AssertUnwindSafe(|| body(comp))) {
+            Ok(Ok(())) => Status::Ok,
+            Ok(Err(failure)) => {
+                let status = failure.status;
+                comp.instance.report(&Failure { message: format!("{name}: {}", failure.message), ..failure });
+                status
+            }
+            Err(payload) => {
+                comp.instance.enter_fatal();
+                let msg = format!("{name}: internal error (panic): {}; the instance can only be freed", panic_message(&*payload));
+                comp.instance.logger.log(Status::Fatal, &msg);
+                Status::Fatal
+            }
         }
-        Err(payload) => {
-            comp.instance.enter_fatal();
-            let msg = format!("{name}: internal error (panic): {}; the instance can only be freed", panic_message(&*payload));
-            comp.instance.logger.log(Status::Fatal, &msg);
-            Status::Fatal
-        }
-    })
+    };
+    comp.instance.logger.set_master_mode(None);
+    Some(status)
 }
 
 /// A C array as a slice; `None` (an error) when it is null but should hold `n` > 0 items.

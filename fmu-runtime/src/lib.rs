@@ -47,6 +47,7 @@ pub mod documentation;
 pub mod elements;
 pub mod export;
 pub mod exported;
+pub mod float_mode;
 pub mod fmi2;
 pub mod fmi3;
 pub mod instance;

@@ -2,6 +2,7 @@
 //! callback, set by the adapter), with a status and a category declared in modelDescription.xml
 //! `LogCategories`.
 
+use crate::float_mode::MasterMode;
 use std::ffi::CString;
 
 use crate::status::Status;
@@ -39,11 +40,19 @@ pub struct Logger {
     /// logEvents) are sent only when on. Warnings, discards, errors and fatal errors are always sent.
     debug_on: bool,
     enabled: Vec<bool>,
+    /// Inside a call of the master's: its floating-point mode, in which its callback runs
+    /// ([`crate::float_mode`]).
+    master_mode: std::cell::Cell<Option<MasterMode>>,
 }
 
 impl Logger {
     pub fn new(sink: Option<Box<dyn LogSink>>, debug_on: bool) -> Self {
-        Logger { sink, debug_on, enabled: vec![true; CATEGORIES.len()] }
+        Logger { sink, debug_on, enabled: vec![true; CATEGORIES.len()], master_mode: std::cell::Cell::new(None) }
+    }
+
+    /// The master's floating-point mode while inside one of its calls, None outside.
+    pub fn set_master_mode(&self, mode: Option<MasterMode>) {
+        self.master_mode.set(mode);
     }
 
     /// A logger that sends nothing (the runtime's own tools and tests).
@@ -81,7 +90,10 @@ impl Logger {
             return;
         }
         if let Some(sink) = &self.sink {
-            sink.send(status, category, message);
+            match self.master_mode.get() {
+                Some(mode) => mode.run(|| sink.send(status, category, message)),
+                None => sink.send(status, category, message),
+            }
         }
     }
 }
