@@ -13,7 +13,8 @@
 //! factorization the factors are copied into a layout made for them: L's multipliers column by
 //! column, U row by row with its diagonal inverted and each row scaled by it
 //! (x_i = y_i / u_ii - sum_d (u_i,i+d / u_ii) x_i+d), every row padded to the full width, so
-//! that the loops have fixed trip counts and no branch but the interchanges.
+//! that the loops have fixed trip counts and no branch but the interchanges; for small bandwidths
+//! L's rows in flight stay in registers and U is solved four rows at a time ([`fast`]).
 //!
 //! Deterministic: the same matrix gives the same factors and solutions bit for bit (one thread,
 //! a fixed order of operations). No allocation after [`BandLu::new`].
