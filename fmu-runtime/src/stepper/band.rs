@@ -196,8 +196,8 @@ impl BandLu {
         }
     }
 
-    /// x := A^-1 x with the last factors, x in band order gathered by `gather` (x_band[k] =
-    /// x[gather[k]]) and scattered back the same way.
+    /// x := A^-1 x with the last factors, x in band order gathered by `gather`
+    /// (`x_band[k] = x[gather[k]]`) and scattered back the same way.
     pub fn solve(&mut self, gather: &[usize], x: &mut [f64]) {
         let (n, kl, kv) = (self.n, self.kl, self.kl + self.ku);
         let w = &mut self.work;
