@@ -12,7 +12,7 @@ pub enum Solver {
     /// Explicit Runge-Kutta (Tsitouras 5(4), diffsol `tsit45`): non-stiff models.
     ExplicitRungeKutta,
     /// Singly diagonally implicit Runge-Kutta (Kennedy and Carpenter's ESDIRK5(4)7L[2]SA_2, fifth
-    /// order, L-stable; Newton with a kept exact Jacobian, dense or sparse LU): stiff models, of any size,
+    /// order, L-stable; Newton with a kept exact Jacobian, dense, band or sparse LU): stiff models, of any size,
     /// e.g. electrical time constants beside seconds of mechanics. A single-step method, so a
     /// communication point costs it no history (unlike BDF).
     ImplicitRungeKutta,

@@ -5,7 +5,7 @@
 //! choice of side), checked against the exact solution (the matrix exponential of the linear
 //! chain, computed here). Also: the explicit method through the same event, both sides; and an
 //! FMU state restored (serialized, into another instance) continues bit for bit with the
-//! implicit method's kept Jacobian, dense and sparse.
+//! implicit method's kept Jacobian, dense, band and sparse.
 
 use fmu_runtime::instance::Instance;
 use fmu_runtime::log::Logger;
@@ -248,7 +248,8 @@ fn the_stiff_chain_at_the_default_tolerance_through_a_torque_step_on_either_side
     }
 }
 
-/// The same at 60 inertias (119 states: the sparse Newton matrix), the torque step inside a
+/// The same at 60 inertias (119 states: the Newton matrix not dense; a band since the band LU,
+/// faer's sparse LU before), the torque step inside a
 /// doStep, written `t >= step_time`: every speed within 10 x rtol of the largest one at every
 /// communication point.
 #[test]
@@ -314,10 +315,100 @@ fn restored_twins_agree<M: Model>(n_states: usize) {
 
 #[test]
 fn a_restored_state_continues_bit_for_bit_with_the_kept_jacobian_dense_and_sparse() {
-    // 2 x 10 - 1 = 19 states: dense; 2 x 40 - 1 = 79: sparse.
+    // 2 x 10 - 1 = 19 states: dense; 2 x 40 - 1 = 79: not dense (a band, below).
     assert!(19 < fmu_runtime::stepper::jacobian::DENSE_BELOW && 79 >= fmu_runtime::stepper::jacobian::DENSE_BELOW);
     restored_twins_agree::<Chain<10, true, true>>(19);
     restored_twins_agree::<Chain<40, true, true>>(79);
+}
+
+/// A hub inertia joined to K spoke inertias by spring-dampers (2K + 1 states: the speeds w_0 (the
+/// hub, driven by the torque step) .. w_K, then the twists theta_1 .. theta_K), each spoke with a
+/// viscous load: the hub's row and column are full, so no reordering makes the pattern a narrow
+/// band, and it is factorized by the sparse LU. The parameters and input of [`Chain`].
+struct Star<const K: usize> {
+    inertia: Parameter,
+    stiffness: Parameter,
+    damping: Parameter,
+    load_coefficient: Parameter,
+    drive_torque: Parameter,
+    step_time: Parameter,
+    load_torque: Input,
+    speeds: Vec<State>,
+    twists: Vec<State>,
+}
+
+/// The star's derivatives over plain slices (speeds w_0..w_K, then twists), for its pattern.
+fn star_derivatives<R: Real>(k: usize, x: &[R], (j, stiffness, damping, load): (R, R, R, R), drive: R, load_torque: R, dx: &mut [R]) {
+    let mut hub = drive;
+    for i in 1..=k {
+        let rate = x[0] - x[i];
+        let torque = stiffness * x[k + i] + damping * rate;
+        dx[k + i] = rate;
+        dx[i] = (torque - load * x[i] - load_torque) / j;
+        hub = hub - torque;
+    }
+    dx[0] = hub / j;
+}
+
+impl<const K: usize> Model for Star<K> {
+    fn info() -> ModelInfo {
+        ModelInfo { name: "Star", description: "a star of inertias", ..Chain::<2, true, true>::info() }
+    }
+
+    fn declare(d: &mut Declarations) -> Self {
+        Star {
+            inertia: d.parameter("J", 1.0, "kg.m2").positive().describe("inertia of each lump"),
+            stiffness: d.parameter("K", 1e4, "N.m/rad").min(0.0).describe("stiffness of each shaft"),
+            damping: d.parameter("D", 1.0, "N.m.s/rad").min(0.0).describe("damping of each shaft"),
+            load_coefficient: d.parameter("c_load", 1.0, "N.m.s/rad").min(0.0).describe("viscous load"),
+            drive_torque: d.parameter("drive_torque", 100.0, "N.m").describe("drive torque after step_time"),
+            step_time: d.parameter("step_time", 0.1, "s").describe("time of the torque step"),
+            load_torque: d.input("load_torque", 0.0, "N.m").describe("torque on each spoke"),
+            speeds: (0..=K).map(|i| d.state(&format!("w_{i}"), 0.0, "rad/s").describe("speed")).collect(),
+            twists: (1..=K).map(|i| d.state(&format!("theta_{i}"), 0.0, "rad").describe("twist")).collect(),
+        }
+    }
+
+    fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
+        (k[self.step_time] > after).then(|| k[self.step_time])
+    }
+
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
+        let drive = if k.time() >= k[self.step_time].value() { k[self.drive_torque] } else { R::from(0.0) };
+        let x: Vec<R> = self.speeds.iter().chain(&self.twists).map(|s| k[*s]).collect();
+        let mut dx = vec![R::from(0.0); x.len()];
+        let p = (k[self.inertia], k[self.stiffness], k[self.damping], k[self.load_coefficient]);
+        star_derivatives(K, &x, p, drive, k[self.load_torque], &mut dx);
+        for (s, v) in self.speeds.iter().chain(&self.twists).zip(dx) {
+            der[*s] = v;
+        }
+    }
+
+    fn outputs<R: Real>(&self, _: &Knowns<R>, _: &mut Outputs<R>) {}
+}
+
+/// The same twins on the band LU (the chain of 40 inertias) and on faer's sparse LU (the star of
+/// 20 spokes), each structure checked to be the one factorized that way.
+#[test]
+fn a_restored_state_continues_bit_for_bit_with_the_kept_jacobian_band_and_sparse() {
+    use fmu_runtime::stepper::jacobian::{probe, Structure};
+    let chain_pattern = |n: usize| {
+        let (a, _) = system(n, 1e-4, 1e5, 10.0, 1.0);
+        let m = 2 * n - 1;
+        let rhs = |x: &[f64], _t: f64, y: &mut [f64]| {
+            for (i, row) in a.iter().enumerate() {
+                y[i] = row.iter().zip(x).map(|(r, v)| r * v).sum();
+            }
+        };
+        probe(&rhs, 0.0, &vec![0.0; m], &vec![1.0; m])
+    };
+    assert_eq!(Structure::sparse(79, chain_pattern(40)).unwrap().kind(), "band");
+    restored_twins_agree::<Chain<40, true, true>>(79);
+    const K: usize = 20;
+    let rhs = |x: &[f64], _t: f64, y: &mut [f64]| star_derivatives(K, x, (1e-4, 1e5, 10.0, 1.0), 0.0, 0.0, y);
+    let pattern = probe(&rhs, 0.0, &vec![0.0; 2 * K + 1], &vec![1.0; 2 * K + 1]);
+    assert_eq!(Structure::sparse(2 * K + 1, pattern).unwrap().kind(), "sparse");
+    restored_twins_agree::<Star<K>>(2 * K + 1);
 }
 
 /// The chain's probed structure is its band: each speed's derivative depends on at most five

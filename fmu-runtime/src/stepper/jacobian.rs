@@ -1,6 +1,7 @@
 //! The implicit method's Jacobian df/dx and its linear solves: the Jacobian's structure (which
 //! derivative depends on which state), its assembly, and the factorization of the Newton matrix
-//! I - h gamma J, dense for small models and sparse (faer's LU) for large ones.
+//! I - h gamma J: dense for small models; for large ones a band LU when reordering the states
+//! makes the matrix a narrow band (chains, lines, discretized shafts), else faer's sparse LU.
 //!
 //! Structure: the states-only dependencies of the derivatives, from one evaluation of the
 //! equations over traces (`integrate::ExactRhs::columns`), once per library and configuration of
@@ -11,14 +12,20 @@
 //!
 //! Assembly ([`evaluate`]): exact, the equations evaluated over dual numbers once per color.
 //!
-//! Dense or sparse: below [`DENSE_BELOW`] states the Newton matrix is a dense n x n matrix (every
-//! column perturbed on its own, no probe, LU with partial pivoting); from there on, the probed
-//! pattern in compressed columns, faer's sparse LU (fill-reducing column ordering and symbolic
-//! analysis once per structure, a numeric factorization each time the matrix changes), and no
-//! states x states matrix anywhere. A probed pattern denser than [`DENSE_ABOVE_FILL`] falls back to dense.
+//! Dense, band or sparse: below [`DENSE_BELOW`] states the Newton matrix is a dense n x n matrix
+//! (every column perturbed on its own, no probe, LU with partial pivoting); from there on, the
+//! probed pattern in compressed columns and no states x states matrix anywhere. A pattern denser
+//! than [`DENSE_ABOVE_FILL`] falls back to dense. Otherwise the states are reordered by reverse
+//! Cuthill-McKee, and when the band that makes is narrow against what faer's sparse LU fills
+//! ([`BAND_BELOW_FILL_FAST`], [`BAND_BELOW_FILL`]), the matrix is factorized as a band
+//! ([`band`]: LAPACK's band LU with partial pivoting, its solves made for latency); else by
+//! faer's sparse LU (fill-reducing column ordering and symbolic analysis once per structure, a
+//! numeric factorization each time the matrix changes). The stiff chain at 1 999 states is a
+//! band of width 2 either side: a solve costs 4.5-5 ns per state there against 11.5 ns with
+//! faer's LU, and the Newton solves were about 80 % of its doStep.
 //!
 //! Everything is deterministic: the same (t, x, parameters, h gamma) give the same factors bit for
-//! bit (faer runs sequentially here), which an FMU state's restore relies on
+//! bit (faer runs sequentially here; the band LU is sequential code with a fixed order), which an FMU state's restore relies on
 //! (`stepper::JacobianPoint`).
 
 use std::any::TypeId;
@@ -31,6 +38,7 @@ use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
 
+use super::band;
 use crate::real::Dual;
 
 /// Dense below this many states, sparse from it on. Measured on the stiff torsional chain
@@ -40,17 +48,36 @@ use crate::real::Dual;
 /// costs 0.77 of dense, at 99 0.39.
 pub const DENSE_BELOW: usize = 20;
 
-/// [`DENSE_BELOW`], or for the benchmark that measures it (bench/chain.py `--dense-or-sparse`) the
-/// environment's `FMU_RUNTIME_JACOBIAN`: `dense` (every size dense) or `sparse` (every size from 2
-/// states sparse), read once per process. Not meant for users: the results are the same to the
-/// tolerance either way, only the cost differs.
-pub fn dense_below() -> usize {
-    static CHOSEN: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+/// A factorization forced for every size by the environment's `FMU_RUNTIME_JACOBIAN`, for the
+/// benchmarks that measure [`DENSE_BELOW`] and [`BAND_BELOW_FILL`] (bench/chain.py
+/// `--dense-or-sparse`): `dense` (every size dense), `sparse` (every size from 2 states faer's
+/// sparse LU, never the band) or `band` (every size from 2 states the band LU), read once per
+/// process. Not meant for users: the results are the same to the tolerance either way, only the
+/// cost differs.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Forced {
+    Dense,
+    Sparse,
+    Band,
+}
+
+pub fn forced() -> Option<Forced> {
+    static CHOSEN: std::sync::OnceLock<Option<Forced>> = std::sync::OnceLock::new();
     *CHOSEN.get_or_init(|| match std::env::var("FMU_RUNTIME_JACOBIAN").as_deref() {
-        Ok("dense") => usize::MAX,
-        Ok("sparse") => 2,
-        _ => DENSE_BELOW,
+        Ok("dense") => Some(Forced::Dense),
+        Ok("sparse") => Some(Forced::Sparse),
+        Ok("band") => Some(Forced::Band),
+        _ => None,
     })
+}
+
+/// [`DENSE_BELOW`], or what [`forced`] makes of it.
+pub fn dense_below() -> usize {
+    match forced() {
+        Some(Forced::Dense) => usize::MAX,
+        Some(_) => 2,
+        None => DENSE_BELOW,
+    }
 }
 
 /// The measurement behind [`DENSE_BELOW`]: (states, us per doStep dense, us per doStep sparse),
@@ -59,6 +86,23 @@ pub fn dense_below() -> usize {
 /// "sparse" is dense there too.
 pub const DENSE_BELOW_MEASURED: &[(usize, f64, f64)] =
     &[(5, 1.0, 1.0), (9, 1.7, 1.7), (15, 2.9, 2.9), (19, 3.9, 3.8), (29, 7.6, 5.9), (49, 17.2, 11.0), (99, 64.1, 25.1)];
+
+/// A pattern is factorized as a band (reordered by reverse Cuthill-McKee) when the band LU's
+/// storage, n (2 kl + ku + 1) entries, is less than this many times the entries of faer's
+/// sparse factors of a trial matrix (`Structure::trial_fill`), and its bandwidths are those of
+/// the band LU's fast solves ([`band::fast`]); else by faer's sparse LU. Measured with
+/// `examples/newton_solve.rs` (one solve, with flush-to-zero, on the shared 2-core machine): the
+/// stiff chain at 1 999 states (kl = ku = 2: 7 band entries per state against 5.0 in the sparse
+/// factors) solves in 4.5-5.0 ns per state as a band, 11.5 ns sparse (0.7 ns per band entry,
+/// 2.3 per sparse one: even at 3 times the entries the band would be faster; 2 leaves a margin).
+pub const BAND_BELOW_FILL_FAST: f64 = 2.0;
+
+/// The same for bandwidths beyond the band LU's fast solves (row by row through memory): a stiff
+/// M x M grid (5-point Laplacian, `newton_solve grid M`: kl = ku = M) costs about the same per
+/// entry either way, 0.8-0.9 ns (band: 29, 53, 81, 108 ns per state for M = 10, 20, 30, 45 with
+/// 31, 61, 91, 136 entries; sparse: 15, 23, 30, 36 ns with 15.6, 25.3, 33.9, 44.2), so the band
+/// only when it holds fewer entries.
+pub const BAND_BELOW_FILL: f64 = 1.0;
 
 /// A probed pattern with more than this fraction of its n^2 entries set is factorized dense.
 pub const DENSE_ABOVE_FILL: f64 = 0.25;
@@ -75,8 +119,8 @@ pub struct StructureKey {
 }
 
 /// The Jacobian's structure: its pattern in compressed sparse columns (the diagonal always in
-/// it, rows ascending in each column), its columns grouped by color, and for the sparse path
-/// the column ordering of its LU.
+/// it, rows ascending in each column), its columns grouped by color, and how the Newton matrix
+/// is factorized.
 pub struct Structure {
     pub n: usize,
     col_ptr: Vec<usize>,
@@ -86,9 +130,22 @@ pub struct Structure {
     color_cols: Vec<usize>,
     /// Where the diagonal entry of each column sits in `row_idx`.
     diagonal: Vec<usize>,
-    /// The sparse LU's column ordering (forward, inverse); None: dense (the pattern is full,
-    /// column-major).
-    ordering: Option<(Vec<usize>, Vec<usize>)>,
+    layout: Layout,
+    /// The entries of faer's sparse factors of the trial matrix with the better ordering (None:
+    /// not tried).
+    sparse_fill: Option<usize>,
+}
+
+/// How the Newton matrix is factorized.
+enum Layout {
+    /// Dense LU (the pattern is full, column-major).
+    Dense,
+    /// The band LU of the matrix reordered by reverse Cuthill-McKee ([`band`]): state
+    /// `order[k]` is the band's row and column k, the band has bandwidths `kl`, `ku`, and the
+    /// pattern's entry e sits at `positions[e]` of the band storage.
+    Band { order: Vec<usize>, kl: usize, ku: usize, positions: Vec<usize> },
+    /// faer's sparse LU with this column ordering (forward, inverse).
+    Sparse { ordering: (Vec<usize>, Vec<usize>) },
 }
 
 impl Structure {
@@ -99,19 +156,27 @@ impl Structure {
         let color_ptr = (0..=n).collect();
         let color_cols = (0..n).collect();
         let diagonal = (0..n).map(|j| j * n + j).collect();
-        Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, ordering: None }
+        Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, layout: Layout::Dense, sparse_fill: None }
     }
 
     /// A sparse structure from each column's rows (any order, the diagonal added): colored, and
-    /// analysed for faer's LU; dense when the pattern fills more than [`DENSE_ABOVE_FILL`].
-    pub fn sparse(n: usize, mut columns: Vec<Vec<usize>>) -> Result<Structure, String> {
+    /// factorized dense when the pattern fills more than [`DENSE_ABOVE_FILL`], as a band when
+    /// its reverse Cuthill-McKee band holds fewer than [`BAND_BELOW_FILL_FAST`] (bandwidths of
+    /// the band LU's fast solves) or [`BAND_BELOW_FILL`] (wider) times the entries of faer's
+    /// sparse factors, else by faer's sparse LU ([`forced`] may force either).
+    pub fn sparse(n: usize, columns: Vec<Vec<usize>>) -> Result<Structure, String> {
+        Structure::choose(n, columns, forced())
+    }
+
+    /// [`sparse`](Self::sparse), the choice between band and sparse LU forced or not.
+    pub fn choose(n: usize, mut columns: Vec<Vec<usize>>, force: Option<Forced>) -> Result<Structure, String> {
         for (j, rows) in columns.iter_mut().enumerate() {
             rows.push(j);
             rows.sort_unstable();
             rows.dedup();
         }
         let nnz: usize = columns.iter().map(Vec::len).sum();
-        if nnz as f64 > DENSE_ABOVE_FILL * (n * n) as f64 {
+        if force != Some(Forced::Band) && nnz as f64 > DENSE_ABOVE_FILL * (n * n) as f64 {
             return Ok(Structure::dense(n));
         }
         let mut col_ptr = Vec::with_capacity(n + 1);
@@ -126,11 +191,17 @@ impl Structure {
         }
         drop(columns);
         let (color_ptr, color_cols) = color(n, &col_ptr, &row_idx);
-        let mut s = Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, ordering: None };
-        // The column ordering: faer's COLAMD, or the reverse Cuthill-McKee ordering of the
-        // symmetrized pattern where that fills strictly less in a trial factorization (a band
-        // numbered across, which COLAMD may not narrow). On the stiff chain both fill the same
-        // (5n in the trial, 7n in the Newton matrix's factors), and COLAMD's solves are 3.4
+        let mut s = Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, layout: Layout::Dense, sparse_fill: None };
+        let rcm = reverse_cuthill_mckee(n, &s.col_ptr, &s.row_idx);
+        let (kl, ku) = s.bandwidths(&rcm.1);
+        if force == Some(Forced::Band) {
+            s.layout = s.band_layout(rcm.0, kl, ku);
+            return Ok(s);
+        }
+        // The sparse LU's column ordering: faer's COLAMD, or the reverse Cuthill-McKee ordering
+        // of the symmetrized pattern where that fills strictly less in a trial factorization (a
+        // band numbered across, which COLAMD may not narrow). On the stiff chain both fill the
+        // same (5n in the trial, 7n in the Newton matrix's factors), and COLAMD's solves are 3.4
         // times faster: RCM's order runs them through subnormal numbers (the chain's end at
         // rest; with flush-to-zero both take the same time).
         let colamd = {
@@ -139,31 +210,87 @@ impl Structure {
             let (fwd, inv) = symbolic.col_perm().arrays();
             (fwd.to_vec(), inv.to_vec())
         };
-        let rcm = reverse_cuthill_mckee(n, &s.col_ptr, &s.row_idx);
         let mut best: Option<((Vec<usize>, Vec<usize>), usize)> = None;
-        for ordering in [colamd, rcm] {
-            s.ordering = Some(ordering);
-            let fill = s.trial_fill()?;
+        for ordering in [colamd, rcm.clone()] {
+            let fill = s.trial_fill(&ordering)?;
             if best.as_ref().map_or(true, |(_, f)| fill < *f) {
-                best = Some((s.ordering.take().expect("set above"), fill));
+                best = Some((ordering, fill));
             }
         }
-        s.ordering = best.map(|(o, _)| o);
+        let (ordering, fill) = best.expect("two orderings tried");
+        s.sparse_fill = Some(fill);
+        let band_entries = n * (2 * kl + ku + 1);
+        let ratio = if band::fast(kl, ku) { BAND_BELOW_FILL_FAST } else { BAND_BELOW_FILL };
+        s.layout = if force != Some(Forced::Sparse) && (band_entries as f64) < ratio * fill as f64 {
+            s.band_layout(rcm.0, kl, ku)
+        } else {
+            Layout::Sparse { ordering }
+        };
         Ok(s)
     }
 
+    /// The lower and upper bandwidths of the pattern in the order whose inverse is `inverse`
+    /// (state j is row and column `inverse[j]`).
+    fn bandwidths(&self, inverse: &[usize]) -> (usize, usize) {
+        let (mut kl, mut ku) = (0, 0);
+        for j in 0..self.n {
+            for &i in &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]] {
+                let (r, c) = (inverse[i], inverse[j]);
+                kl = kl.max(r.saturating_sub(c));
+                ku = ku.max(c.saturating_sub(r));
+            }
+        }
+        (kl, ku)
+    }
+
+    fn band_layout(&self, order: Vec<usize>, kl: usize, ku: usize) -> Layout {
+        let mut inverse = vec![0; self.n];
+        for (k, &v) in order.iter().enumerate() {
+            inverse[v] = k;
+        }
+        let mut positions = vec![0; self.row_idx.len()];
+        for j in 0..self.n {
+            for e in self.col_ptr[j]..self.col_ptr[j + 1] {
+                positions[e] = band::BandLu::position(kl, ku, inverse[self.row_idx[e]], inverse[j]);
+            }
+        }
+        Layout::Band { order, kl, ku, positions }
+    }
+
     /// Entries of L and U of a matrix with this pattern whose diagonal dominates, factorized
-    /// with this structure's ordering.
-    fn trial_fill(&self) -> Result<usize, String> {
+    /// by faer's sparse LU with this column ordering.
+    fn trial_fill(&self, ordering: &(Vec<usize>, Vec<usize>)) -> Result<usize, String> {
         let values: Vec<f64> = (0..self.n)
             .flat_map(|j| (self.col_ptr[j]..self.col_ptr[j + 1]).map(move |k| (j, k)))
             .map(|(j, k)| if self.row_idx[k] == j { 4.0 } else { 0.1 + 0.01 * (k % 7) as f64 })
             .collect();
-        let mut f = Factors::new(self);
-        f.factor_values(self, &values)?;
+        let mut f = Factors::sparse(self.n, self.nnz());
+        f.factor_sparse(self, ordering, &values)?;
         match f {
             Factors::Sparse { lu, .. } => Ok(lu.l_factor_unsorted().row_idx().len() + lu.u_factor_unsorted().row_idx().len()),
-            Factors::Dense { .. } => Ok(self.n * self.n),
+            _ => unreachable!("made sparse"),
+        }
+    }
+
+    /// How the Newton matrix is factorized: "dense", "band" or "sparse".
+    pub fn kind(&self) -> &'static str {
+        match self.layout {
+            Layout::Dense => "dense",
+            Layout::Band { .. } => "band",
+            Layout::Sparse { .. } => "sparse",
+        }
+    }
+
+    /// The entries of faer's sparse factors of the trial matrix (`trial_fill`), when tried.
+    pub fn sparse_fill(&self) -> Option<usize> {
+        self.sparse_fill
+    }
+
+    /// The band's lower and upper bandwidths, when the Newton matrix is factorized as a band.
+    pub fn band(&self) -> Option<(usize, usize)> {
+        match self.layout {
+            Layout::Band { kl, ku, .. } => Some((kl, ku)),
+            _ => None,
         }
     }
 
@@ -178,7 +305,7 @@ impl Structure {
     }
 
     pub fn is_dense(&self) -> bool {
-        self.ordering.is_none()
+        matches!(self.layout, Layout::Dense)
     }
 }
 
@@ -372,6 +499,8 @@ pub fn evaluate(s: &Structure, rhs: DualRhs, t: f64, x: &[f64], values: &mut [f6
 pub enum Factors {
     /// LU with partial pivoting of the dense matrix (column-major) and the row swaps.
     Dense { lu: Vec<f64>, swaps: Vec<usize> },
+    /// The band LU of the matrix in the structure's band order.
+    Band { lu: band::BandLu },
     /// faer's simplicial LU (left-looking, partial pivoting) with the structure's column
     /// ordering, its row pivoting (forward, inverse), the matrix's values and the work space.
     Sparse { lu: SimplicialLu<usize, f64>, rows: (Vec<usize>, Vec<usize>), values: Vec<f64>, mem: MemBuffer },
@@ -379,22 +508,25 @@ pub enum Factors {
 
 impl Factors {
     pub fn new(s: &Structure) -> Factors {
-        match &s.ordering {
-            None => Factors::Dense { lu: vec![0.0; s.n * s.n], swaps: vec![0; s.n] },
-            Some(_) => {
-                let req = StackReq::any_of(&[
-                    simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(s.n, s.n),
-                    simplicial::solve_in_place_scratch::<usize, f64>(s.n, 1, Par::Seq),
-                ]);
-                Factors::Sparse { lu: SimplicialLu::new(), rows: (vec![0; s.n], vec![0; s.n]), values: vec![0.0; s.nnz()], mem: MemBuffer::new(req) }
-            }
+        match &s.layout {
+            Layout::Dense => Factors::Dense { lu: vec![0.0; s.n * s.n], swaps: vec![0; s.n] },
+            Layout::Band { kl, ku, .. } => Factors::Band { lu: band::BandLu::new(s.n, *kl, *ku) },
+            Layout::Sparse { .. } => Factors::sparse(s.n, s.nnz()),
         }
+    }
+
+    fn sparse(n: usize, nnz: usize) -> Factors {
+        let req = StackReq::any_of(&[
+            simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n),
+            simplicial::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
+        ]);
+        Factors::Sparse { lu: SimplicialLu::new(), rows: (vec![0; n], vec![0; n]), values: vec![0.0; nnz], mem: MemBuffer::new(req) }
     }
 
     /// Factorizes I - `hg` J, J's entries in `jac` (the structure's order). Err when singular.
     pub fn factor(&mut self, s: &Structure, jac: &[f64], hg: f64) -> Result<(), String> {
-        match self {
-            Factors::Dense { lu, swaps } => {
+        match (self, &s.layout) {
+            (Factors::Dense { lu, swaps }, _) => {
                 let n = s.n;
                 for (m, j) in lu.iter_mut().zip(jac) {
                     *m = -hg * j;
@@ -404,28 +536,42 @@ impl Factors {
                 }
                 dense_lu(n, lu, swaps)
             }
-            Factors::Sparse { values, .. } => {
+            (Factors::Band { lu }, Layout::Band { positions, .. }) => {
+                let band = lu.storage();
+                band.fill(0.0);
+                for (&at, j) in positions.iter().zip(jac) {
+                    band[at] = -hg * j;
+                }
+                for &k in &s.diagonal {
+                    band[positions[k]] += 1.0;
+                }
+                lu.factor()
+            }
+            (f @ Factors::Sparse { .. }, Layout::Sparse { ordering }) => {
+                let Factors::Sparse { values, .. } = &mut *f else { unreachable!() };
                 for (m, j) in values.iter_mut().zip(jac) {
                     *m = -hg * j;
                 }
                 for &k in &s.diagonal {
                     values[k] += 1.0;
                 }
-                self.factor_own_values(s)
+                f.factor_own_values(s, ordering)
             }
+            _ => Err("factors of another structure".into()),
         }
     }
 
-    /// Factorizes the matrix of these entries (the structure's order): a sparse structure only.
-    fn factor_values(&mut self, s: &Structure, matrix: &[f64]) -> Result<(), String> {
+    /// Factorizes the matrix of these entries (the structure's order) by faer's sparse LU with
+    /// this column ordering.
+    fn factor_sparse(&mut self, s: &Structure, ordering: &(Vec<usize>, Vec<usize>), matrix: &[f64]) -> Result<(), String> {
         if let Factors::Sparse { values, .. } = self {
             values.copy_from_slice(matrix);
         }
-        self.factor_own_values(s)
+        self.factor_own_values(s, ordering)
     }
 
-    fn factor_own_values(&mut self, s: &Structure) -> Result<(), String> {
-        let (Factors::Sparse { lu, rows, values, mem }, Some((fwd, inv))) = (self, &s.ordering) else {
+    fn factor_own_values(&mut self, s: &Structure, (fwd, inv): &(Vec<usize>, Vec<usize>)) -> Result<(), String> {
+        let Factors::Sparse { lu, rows, values, mem } = self else {
             return Err("not a sparse factorization".into());
         };
         let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(s.n, s.n, &s.col_ptr, None, &s.row_idx), values);
@@ -435,9 +581,10 @@ impl Factors {
 
     /// b := (I - h gamma J)^-1 b with the last factors.
     pub fn solve(&mut self, s: &Structure, b: &mut [f64]) {
-        match (self, &s.ordering) {
+        match (self, &s.layout) {
             (Factors::Dense { lu, swaps }, _) => dense_solve(s.n, lu, swaps, b),
-            (Factors::Sparse { lu, rows, mem, .. }, Some((fwd, inv))) => {
+            (Factors::Band { lu }, Layout::Band { order, .. }) => lu.solve(order, b),
+            (Factors::Sparse { lu, rows, mem, .. }, Layout::Sparse { ordering: (fwd, inv) }) => {
                 let n = b.len();
                 lu.solve_in_place_with_conj(
                     PermRef::new_checked(&rows.0, &rows.1, n),
@@ -448,14 +595,14 @@ impl Factors {
                     MemStack::new(mem),
                 );
             }
-            (Factors::Sparse { .. }, None) => unreachable!("a sparse factorization has an ordering"),
+            _ => unreachable!("factors are made for their structure"),
         }
     }
 }
 
 /// LU with partial pivoting, in place (column-major n x n), the row swapped with each row k in
 /// `swaps[k]`. Err when a pivot is zero or not finite.
-fn dense_lu(n: usize, a: &mut [f64], swaps: &mut [usize]) -> Result<(), String> {
+pub(super) fn dense_lu(n: usize, a: &mut [f64], swaps: &mut [usize]) -> Result<(), String> {
     for k in 0..n {
         let col = &a[k * n..(k + 1) * n];
         let mut p = k;
@@ -494,7 +641,7 @@ fn dense_lu(n: usize, a: &mut [f64], swaps: &mut [usize]) -> Result<(), String> 
     Ok(())
 }
 
-fn dense_solve(n: usize, lu: &[f64], swaps: &[usize], b: &mut [f64]) {
+pub(super) fn dense_solve(n: usize, lu: &[f64], swaps: &[usize], b: &mut [f64]) {
     for k in 0..n {
         b.swap(k, swaps[k]);
     }
@@ -544,22 +691,28 @@ mod tests {
     }
 
     #[test]
-    fn colored_dual_columns_and_both_factorizations_solve_the_newton_system() {
+    fn colored_dual_columns_and_the_three_factorizations_solve_the_newton_system() {
         let n = 40;
         let a = matrix(n);
         let rhs = |x: &[f64], _t: f64, y: &mut [f64]| apply(&a, x, y);
         let dual = |x: &[Dual], _t: f64, y: &mut [Dual]| apply(&a, x, y);
         let x: Vec<f64> = (0..n).map(|i| 0.3 + i as f64).collect();
         let scale = vec![1.0; n];
-        let sparse = Structure::sparse(n, probe(&rhs, 0.0, &x, &scale)).unwrap();
-        assert!(!sparse.is_dense());
-        assert_eq!(sparse.nnz(), 3 * n - 2 + 1);
-        assert!(sparse.colors() <= 4, "{} colors", sparse.colors());
+        let columns = probe(&rhs, 0.0, &x, &scale);
+        // A ring (the corner): reverse Cuthill-McKee makes it a band of width 2 either side.
+        let chosen = Structure::sparse(n, columns.clone()).unwrap();
+        assert_eq!((chosen.kind(), chosen.band()), ("band", Some((2, 2))));
+        assert_eq!(chosen.nnz(), 3 * n - 2 + 1);
+        assert!(chosen.colors() <= 4, "{} colors", chosen.colors());
+        let sparse = Structure::choose(n, columns.clone(), Some(Forced::Sparse)).unwrap();
+        assert_eq!(sparse.kind(), "sparse");
+        let band = Structure::choose(n, columns, Some(Forced::Band)).unwrap();
+        assert_eq!(band.kind(), "band");
         let dense = Structure::dense(n);
         let b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
         let hg = 0.37;
         let mut solutions = Vec::new();
-        for s in [&sparse, &dense] {
+        for s in [&sparse, &band, &dense] {
             let mut jac = vec![0.0; s.nnz()];
             evaluate(s, &dual, 0.0, &x, &mut jac, &mut Work::default());
             for j in 0..n {
@@ -585,9 +738,58 @@ mod tests {
             }
             solutions.push(z);
         }
-        for (s, d) in solutions[0].iter().zip(&solutions[1]) {
-            assert!((s - d).abs() < 1e-12 * (1.0 + d.abs()), "{s} {d}");
+        for other in &solutions[..2] {
+            for (s, d) in other.iter().zip(&solutions[2]) {
+                assert!((s - d).abs() < 1e-12 * (1.0 + d.abs()), "{s} {d}");
+            }
         }
+    }
+
+    /// The switch between band and sparse LU on the two patterns that measured it
+    /// ([`BAND_BELOW_FILL_FAST`], [`BAND_BELOW_FILL`]): the chain (speeds, then twists, as the
+    /// model declares them) is a band of width 2 either side after reverse Cuthill-McKee; a
+    /// 10 x 10 grid's band (10 either side, 31 entries per row) holds twice the sparse factors'
+    /// entries, and its solve measured twice as slow as a band.
+    #[test]
+    fn a_narrow_band_is_factorized_as_a_band_a_wide_one_sparse() {
+        let n = 200;
+        let m = 2 * n - 1;
+        let mut chain = vec![Vec::new(); m];
+        for i in 0..n {
+            // d w_i / dt: the speeds i - 1, i, i + 1 and the twists i - 1, i; d theta_i / dt: w_i, w_i+1.
+            for j in [i.wrapping_sub(1), i, i + 1] {
+                if j < n {
+                    chain[j].push(i);
+                }
+            }
+            for t in [i.wrapping_sub(1), i] {
+                if t < n - 1 {
+                    chain[n + t].push(i);
+                }
+            }
+            if i < n - 1 {
+                chain[i].push(n + i);
+                chain[i + 1].push(n + i);
+            }
+        }
+        let s = Structure::sparse(m, chain).unwrap();
+        assert_eq!((s.kind(), s.band()), ("band", Some((2, 2))));
+        let side = 10;
+        let mut grid = vec![Vec::new(); side * side];
+        for i in 0..side {
+            for j in 0..side {
+                let k = i * side + j;
+                for (di, dj) in [(0, 1), (1, 0)] {
+                    if i + di < side && j + dj < side {
+                        let other = (i + di) * side + j + dj;
+                        grid[k].push(other);
+                        grid[other].push(k);
+                    }
+                }
+            }
+        }
+        let s = Structure::sparse(side * side, grid).unwrap();
+        assert_eq!(s.kind(), "sparse");
     }
 
     #[test]

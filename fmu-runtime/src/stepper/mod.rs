@@ -13,6 +13,7 @@
 //! `pub mod` line and its line in `registered`; its variant in [`Solver`] (docs/DESIGN.md,
 //! "Adding a solver method").
 
+pub mod band;
 pub mod esdirk;
 pub mod events;
 pub mod explicit;
