@@ -42,6 +42,9 @@ pub struct ModelDescription {
     /// What is wrong with the model (its declarations, or a computed variable its equations
     /// never write): "file:line: rule. Fix: ...". A model with problems is not exported.
     pub problems: Vec<String>,
+    /// The model's tolerance floor at its default parameters (`Model::tolerance_floor`), which
+    /// sets the DefaultExperiment's tolerance.
+    pub default_floor: Option<f64>,
 }
 
 /// What the model crate's Cargo.toml says about it, and when its source was made. `export_fmu!`
@@ -882,8 +885,9 @@ impl Document {
 /// What `fmi2Instantiate`/`fmi3Instantiate*` check a master's token against, for one standard:
 /// the first half of the token, the hash of the description written without its dependency
 /// lists. O(variables): it needs the table, not the dependency probe.
-pub fn token_check<M: Model>(standard: Standard, table: &VariableTable, package: &Package) -> crate::xml::TokenCheck {
-    crate::xml::TokenCheck::new(crate::xml::interface_hash(&standard.write_xml::<M>(table, &Structure::skeleton(table), package)))
+pub fn token_check<M: Model>(standard: Standard, model: &M, table: &VariableTable, package: &Package) -> crate::xml::TokenCheck {
+    let floor = crate::model::default_tolerance_floor(model, table);
+    crate::xml::TokenCheck::new(crate::xml::interface_hash(&standard.write_xml::<M>(table, &Structure::skeleton(table), package, floor)))
 }
 
 /// The problems a model's library finds without probing its equations' dependencies: its
@@ -933,11 +937,12 @@ impl ModelDescription {
         let fresh: Vec<String> = constant.into_iter().filter(|c| quoted_name(c).is_none_or(|n| !named.contains(&n))).collect();
         problems.extend(fresh);
         let skeleton = Structure::skeleton(&table);
+        let default_floor = crate::model::default_tolerance_floor(model, &table);
         let documents = crate::standards::ALL
             .iter()
-            .map(|s| (*s, Document::stamped(s.write_xml::<M>(&table, &structure, package), &s.write_xml::<M>(&table, &skeleton, package))))
+            .map(|s| (*s, Document::stamped(s.write_xml::<M>(&table, &structure, package, default_floor), &s.write_xml::<M>(&table, &skeleton, package, default_floor))))
             .collect();
-        ModelDescription { documents, package: *package, table, structure, problems }
+        ModelDescription { documents, package: *package, table, structure, problems, default_floor }
     }
 }
 
@@ -1114,13 +1119,13 @@ mod tests {
         let d = ModelDescription::of::<Decay>();
         for s in crate::standards::ALL {
             let (table, package) = (&d.table, &Package::default());
-            let check = token_check::<Decay>(*s, table, package);
+            let check = token_check::<Decay>(*s, &crate::model::declare::<Decay>().0, table, package);
             let document = d.document(*s);
             assert!(check.accepts(&document.token), "{s:?}: {} against {}", document.token, check.shown());
             // The same description with other dependency lists: same first half, another token.
             let mut other = Structure::skeleton(table);
             other.derivatives[0].1 = Some(BTreeSet::from([2]));
-            let relisted = Document::stamped(s.write_xml::<Decay>(table, &other, package), &s.write_xml::<Decay>(table, &Structure::skeleton(table), package));
+            let relisted = Document::stamped(s.write_xml::<Decay>(table, &other, package, None), &s.write_xml::<Decay>(table, &Structure::skeleton(table), package, None));
             assert_eq!(relisted.token[..20], document.token[..20], "{s:?}");
             assert_ne!(relisted.token, document.token, "{s:?}");
             // Flat names: FMI's default convention, not said.

@@ -207,10 +207,11 @@ result = fmpy.simulate_fmu("{name}.fmu", stop_time={stop}, output_interval={step
         start = real_text(e.start_time),
         stop = real_text(e.stop_time),
         step = real_text(e.step_size),
-        rtol = real_text(declared_tolerance(M::tolerance_floor())),
-        floor = M::tolerance_floor().map_or(String::new(), |f| format!(
-            ", tightened to this model's floor {} where it is looser (a warning through the logger names both): at looser \
-             tolerances this model's errors grow far beyond the tolerance, see the accuracy table in the project's README",
+        rtol = real_text(declared_tolerance(d.default_floor)),
+        floor = d.default_floor.map_or(String::new(), |f| format!(
+            ", tightened to this model's floor {} at its default parameters where it is looser (a warning through the logger names \
+             both; the model's notes say where other parameters change it): at looser tolerances this model's errors grow far \
+             beyond the tolerance, see the accuracy table in the project's README",
             real_text(f)
         )),
         atol_factor = real_text(ABSOLUTE_PER_RELATIVE),

@@ -114,7 +114,7 @@ impl<M: Model> Exported<M> {
     /// call: O(variables), no probe).
     pub fn token_check(&self, standard: Standard) -> &TokenCheck {
         self.checks[ALL.iter().position(|s| *s == standard).expect("every standard of standards::ALL")]
-            .get_or_init(|| crate::description::token_check::<M>(standard, &self.declared.table, &self.package))
+            .get_or_init(|| crate::description::token_check::<M>(standard, &*self.declared.model, &self.declared.table, &self.package))
     }
 
     /// The descriptions, made on the first call (the dependency probe runs then, once).

@@ -64,13 +64,16 @@ pub trait Model: Sized + Send + Sync + 'static {
         false
     }
 
-    /// The loosest relative tolerance the model's Co-Simulation solver runs at (FMI's
-    /// `fmi2SetupExperiment` tolerance, or the default, is tightened to it, with a logged
-    /// warning that names both): for a model whose errors grow far beyond the tolerance asked
-    /// for, e.g. an explicit method riding its stability limit on a stiff mode (docs/DESIGN.md,
-    /// "Accuracy that follows the tolerance"). Model Exchange is unaffected: the master's own
-    /// solver integrates. None: any tolerance the master asks for is used as given.
-    fn tolerance_floor() -> Option<f64> {
+    /// The loosest relative tolerance the model's Co-Simulation solver runs at with the
+    /// parameters in `k` (FMI's `fmi2SetupExperiment` tolerance, or the default, is tightened to
+    /// it, with a logged warning that names both): for a model whose errors grow far beyond the
+    /// tolerance asked for, e.g. an explicit method riding its stability limit on a stiff mode
+    /// (docs/DESIGN.md, "Accuracy that follows the tolerance"). It may depend on the parameters
+    /// (a configuration that does not ring needs none, and a floor below what round-off allows
+    /// only costs steps); the one at the default parameters is the DefaultExperiment's tolerance.
+    /// Read when initialization ends. Model Exchange is unaffected: the master's own solver
+    /// integrates. None: any tolerance the master asks for is used as given.
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         None
     }
 
@@ -224,6 +227,13 @@ pub fn initialize_states<M: Model, R: Real>(
         }
     }
     Ok(())
+}
+
+/// The model's tolerance floor at its default parameters and start values, at the default
+/// experiment's start (`Model::tolerance_floor`): what its DefaultExperiment declares.
+pub fn default_tolerance_floor<M: Model>(model: &M, table: &VariableTable) -> Option<f64> {
+    let v = table.start_values();
+    model.tolerance_floor(&Knowns::new(M::info().default_experiment.start_time, &v.known, &v.states, &v.integers, &v.booleans))
 }
 
 /// What the runtime itself declares beside a model's own variables.

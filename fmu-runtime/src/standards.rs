@@ -11,7 +11,7 @@ use crate::model::Model;
 use crate::variables::VariableTable;
 
 /// Declares the versions: for each, its variant and its adapter module, which provides
-/// `write_xml::<M>(table, structure, package)`, `DOCUMENTATION` (its documentation words),
+/// `write_xml::<M>(table, structure, package, default_floor)`, `DOCUMENTATION` (its documentation words),
 /// `FOLDER` (where build-fmus puts its FMUs) and `platform()` (its binaries folder's name).
 macro_rules! standards {
     ($($variant:ident => $module:ident),* $(,)?) => {
@@ -26,9 +26,9 @@ macro_rules! standards {
 
         impl Standard {
             /// Its modelDescription.xml, with the token left as `xml::TOKEN_PLACEHOLDER`.
-            pub fn write_xml<M: Model>(self, table: &VariableTable, structure: &Structure, package: &Package) -> String {
+            pub fn write_xml<M: Model>(self, table: &VariableTable, structure: &Structure, package: &Package, default_floor: Option<f64>) -> String {
                 match self {
-                    $(Standard::$variant => crate::$module::write_xml::<M>(table, structure, package)),*
+                    $(Standard::$variant => crate::$module::write_xml::<M>(table, structure, package, default_floor)),*
                 }
             }
 

@@ -402,3 +402,28 @@ impl Model for Array {
         out[self.first] = k[self.w[0]];
     }
 }
+
+/// `Decay` with a tolerance floor that depends on a parameter: 1e-10 while `ringing` is on
+/// (the default), none when it is off.
+pub struct FlooredDecay {
+    decay: Decay,
+    ringing: crate::variables::BooleanParameter,
+}
+
+impl Model for FlooredDecay {
+    fn info() -> ModelInfo {
+        ModelInfo { name: "FlooredDecay", ..Decay::info() }
+    }
+    fn declare(d: &mut Declarations) -> Self {
+        FlooredDecay { decay: Decay::declare(d), ringing: d.boolean_parameter("ringing", true).describe("whether the floor applies") }
+    }
+    fn tolerance_floor(&self, k: &Knowns) -> Option<f64> {
+        k[self.ringing].then_some(1e-10)
+    }
+    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
+        self.decay.derivatives(k, der)
+    }
+    fn outputs<R: Real>(&self, k: &Knowns<R>, out: &mut Outputs<R>) {
+        self.decay.outputs(k, out)
+    }
+}

@@ -174,7 +174,9 @@ pub fn write_log_categories(w: &mut Xml) {
     close(w, "LogCategories");
 }
 
-pub fn write_default_experiment<M: Model>(w: &mut Xml) {
+/// The DefaultExperiment: the model's own, with the tolerance it is made for at its default
+/// parameters (`default_floor`: `model::default_tolerance_floor`).
+pub fn write_default_experiment<M: Model>(w: &mut Xml, default_floor: Option<f64>) {
     let e = M::info().default_experiment;
     empty(
         w,
@@ -182,7 +184,7 @@ pub fn write_default_experiment<M: Model>(w: &mut Xml) {
         &[
             ("startTime", real_text(e.start_time)),
             ("stopTime", real_text(e.stop_time)),
-            ("tolerance", real_text(crate::integrate::declared_tolerance(M::tolerance_floor()))),
+            ("tolerance", real_text(crate::integrate::declared_tolerance(default_floor))),
             ("stepSize", real_text(e.step_size)),
         ],
     );

@@ -72,7 +72,7 @@ fn write_variable(w: &mut Xml, v: &Variable, table: &VariableTable) {
 }
 
 /// The FMI 2.0 description, with the guid left as `TOKEN_PLACEHOLDER`.
-pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &Package) -> String {
+pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &Package, default_floor: Option<f64>) -> String {
     let info = M::info();
     let mut w = document();
     let mut header = vec![("fmiVersion", "2.0".to_string()), ("modelName", info.name.into()), ("guid", TOKEN_PLACEHOLDER.into())];
@@ -123,7 +123,7 @@ pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &P
         close(&mut w, "TypeDefinitions");
     }
     write_log_categories(&mut w);
-    write_default_experiment::<M>(&mut w);
+    write_default_experiment::<M>(&mut w, default_floor);
     open(&mut w, "ModelVariables", NO_ATTRIBUTES);
     for v in &table.variables {
         write_variable(&mut w, v, table);

@@ -50,7 +50,7 @@ fn write_variable(w: &mut Xml, v: &Variable) {
 }
 
 /// The FMI 3.0 description, with the instantiationToken left as `TOKEN_PLACEHOLDER`.
-pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &Package) -> String {
+pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &Package, default_floor: Option<f64>) -> String {
     let info = M::info();
     let extra = Extra::of(table);
     let mut w = crate::xml::document();
@@ -97,7 +97,7 @@ pub fn write<M: Model>(table: &VariableTable, structure: &Structure, package: &P
         close(&mut w, "TypeDefinitions");
     }
     write_log_categories(&mut w);
-    write_default_experiment::<M>(&mut w);
+    write_default_experiment::<M>(&mut w, default_floor);
     open(&mut w, "ModelVariables", NO_ATTRIBUTES);
     empty(
         &mut w,

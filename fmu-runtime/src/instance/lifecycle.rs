@@ -22,28 +22,42 @@ impl<M: Model> Instance<M> {
         self.now.time = start_time;
         self.stale = true;
         let stop = stop_time.map_or("no stop time".to_string(), |s| format!("stop {s} s"));
-        let asked = tolerance.map_or(format!("no tolerance given (the default {})", declared_tolerance(M::tolerance_floor())), |t| format!("tolerance {t}"));
+        let asked = tolerance.map_or("no tolerance given".to_string(), |t| format!("tolerance {t}"));
         self.debug(&format!("experiment: start {start_time} s, {stop}, {asked}"));
-        if let (Interface::CoSimulation, Some(asked), Some(floor)) = (self.interface, tolerance, M::tolerance_floor()) {
-            if asked > floor {
-                self.logger.log(
-                    Status::Warning,
-                    &format!(
-                        "tolerance {asked} set by the master is looser than this FMU's floor {floor}: its solver integrates at {floor} \
-                         (at looser tolerances its errors grow far beyond the tolerance; see the FMU's documentation)"
-                    ),
-                );
-            }
-        }
         Ok(())
     }
 
+    /// The model's tolerance floor with the parameters as they are now (`Model::tolerance_floor`).
+    fn tolerance_floor(&self) -> Option<f64> {
+        let v = &self.now.values;
+        self.model.tolerance_floor(&Knowns::new(self.now.time, &v.known, &v.states, &v.integers, &v.booleans))
+    }
+
     /// The relative tolerance the Co-Simulation solver integrates at: the master's (else the
-    /// declared default), tightened to the model's floor.
+    /// default for these parameters, `declared_tolerance`), tightened to the model's floor for
+    /// these parameters.
     pub(super) fn solver_tolerance(&self) -> f64 {
-        let floor = M::tolerance_floor();
+        let floor = self.tolerance_floor();
         let asked = self.now.experiment.tolerance.unwrap_or(declared_tolerance(floor));
         floor.map_or(asked, |floor| asked.min(floor))
+    }
+
+    /// Co-Simulation, when initialization ends (the parameters final): says through the logger
+    /// which tolerance the solver integrates at, with a warning where the model's floor for these
+    /// parameters tightens the master's.
+    fn report_solver_tolerance(&self) {
+        let floor = self.tolerance_floor();
+        match (self.now.experiment.tolerance, floor) {
+            (Some(asked), Some(floor)) if asked > floor => self.logger.log(
+                Status::Warning,
+                &format!(
+                    "tolerance {asked:e} set by the master is looser than this FMU's floor {floor:e} for its parameters: its solver \
+                     integrates at {floor:e} (at looser tolerances its errors grow far beyond the tolerance; see the FMU's documentation)"
+                ),
+            ),
+            (None, _) => self.debug(&format!("no tolerance given: the solver integrates at {:e}", self.solver_tolerance())),
+            _ => {}
+        }
     }
 
     pub fn enter_initialization_mode(&mut self) -> CallResult {
@@ -77,6 +91,7 @@ impl<M: Model> Instance<M> {
             self.debug("initialization done, event mode");
             return Ok(());
         }
+        self.report_solver_tolerance();
         match self.make_integrator() {
             Ok(integrator) => self.integrator = Some(integrator),
             Err(message) => {

@@ -690,3 +690,59 @@ fn without_early_return_or_event_mode_the_step_handles_its_events() {
     assert!(refused.message.contains("eventModeUsed = false"), "{}", refused.message);
     assert_eq!(i.phase(), Phase::Stepping);
 }
+
+/// Records what an instance logs.
+#[derive(Clone, Default)]
+struct Recorded(std::sync::Arc<std::sync::Mutex<Vec<(Status, String)>>>);
+
+impl crate::log::LogSink for Recorded {
+    fn send(&self, status: Status, _category: &str, message: &str) {
+        self.0.lock().unwrap().push((status, message.to_string()));
+    }
+}
+
+impl Recorded {
+    fn warnings(&self) -> Vec<String> {
+        self.0.lock().unwrap().iter().filter(|(s, _)| *s == Status::Warning).map(|(_, m)| m.clone()).collect()
+    }
+}
+
+/// A FlooredDecay set up with the master's tolerance and `ringing`, initialized: the
+/// tolerance its solver integrates at, and what it logged.
+fn floored(tolerance: Option<f64>, ringing: bool) -> (f64, Recorded) {
+    use crate::test_model::FlooredDecay;
+    let log = Recorded::default();
+    let mut i = Instance::<FlooredDecay>::new("{test}", Logger::new(Some(Box::new(log.clone())), false));
+    let vr = i.table.variables.iter().position(|v| v.name == "ringing").unwrap() as u32;
+    i.setup_experiment(tolerance, 0.0, None).unwrap();
+    assert!(log.warnings().is_empty(), "no warning before the parameters are final: {:?}", log.warnings());
+    i.enter_initialization_mode().unwrap();
+    i.set(&[vr], &[ringing]).unwrap();
+    i.exit_initialization_mode().unwrap();
+    i.do_step(0.0, 0.01).unwrap();
+    (i.solver_tolerance(), log)
+}
+
+#[test]
+fn the_tolerance_floor_follows_the_parameters() {
+    // Ringing (the default): the master's 1e-6 is tightened to the floor, with a warning naming both.
+    let (rtol, log) = floored(Some(1e-6), true);
+    assert_eq!(rtol, 1e-10);
+    let w = log.warnings();
+    assert!(w.len() == 1 && w[0].contains("1e-6") && w[0].contains("floor 1e-10"), "{w:?}");
+    // Not ringing: the master's tolerance as given, and no warning.
+    let (rtol, log) = floored(Some(1e-6), false);
+    assert_eq!(rtol, 1e-6);
+    assert!(log.warnings().is_empty(), "{:?}", log.warnings());
+    // No tolerance given: the default for the parameters, the floor or DEFAULT_RELATIVE_TOLERANCE.
+    assert_eq!(floored(None, true).0, 1e-10);
+    assert_eq!(floored(None, false).0, crate::integrate::DEFAULT_RELATIVE_TOLERANCE);
+    // A tighter tolerance than the floor is kept.
+    assert_eq!(floored(Some(1e-12), true).0, 1e-12);
+    // The DefaultExperiment declares the floor at the default parameters.
+    let d = crate::description::ModelDescription::of::<crate::test_model::FlooredDecay>();
+    for s in crate::standards::ALL {
+        assert!(d.document(*s).xml.contains(r#"tolerance="1e-10""#), "{s:?}: {}", d.document(*s).xml);
+    }
+    assert_eq!(d.default_floor, Some(1e-10));
+}

@@ -353,7 +353,7 @@ impl Model for BoosterNozzle {
     /// activity was 0.038 of its range off (38 x rtol; it rectifies the body's 417 Hz ringing after
     /// each step of the valve's flow), at 1e-4 0.0018 (18 x); from 1e-5 on every output is within
     /// 10 x rtol of its range. The default tolerance, 1e-8, is unaffected.
-    fn tolerance_floor() -> Option<f64> {
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         Some(1e-5)
     }
 

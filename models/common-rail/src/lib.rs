@@ -351,7 +351,7 @@ impl Model for CommonRailInjection {
     /// 6.8e-3 of its range at rtol 1e-4 and 2.9e-4 at 1e-5 (the seat's power is a hump at small
     /// lift inside each 0.2 ms ramp of the needle, which the rail pressure and the shot volume
     /// let the solver step across); at 1e-6 every output is within 6.6e-6 of its range.
-    fn tolerance_floor() -> Option<f64> {
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         Some(1e-6)
     }
 

@@ -283,7 +283,7 @@ impl Model for EhaFlightControl {
     /// hydraulic mode's ringing, 58 Hz, rectified by |p|), the armature resistance's by 3.3e-3 at
     /// level 1; at 1e-4 by 4.1e-4 and 2.8e-4; at 1e-5 every output is within 1.0e-5 and 2.7e-5 of
     /// its range. The default tolerance, 1e-8, is unaffected.
-    fn tolerance_floor() -> Option<f64> {
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         Some(1e-5)
     }
 

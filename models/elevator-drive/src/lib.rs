@@ -59,7 +59,7 @@ impl Model for ElevatorDrive {
     /// -25 +/- 33j 1/s), and the step-size controller's cycling leaves a ripple of the order of the
     /// tolerance in i and w, whose |J w dw/dt| the inertia's activity integrates: 13-24 x rtol of
     /// its range at 5 s for rtol 1e-3 to 1e-8. At 1e-9 it is within 2e-8 (under 10 x 1e-8).
-    fn tolerance_floor() -> Option<f64> {
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         Some(1e-9)
     }
 

@@ -122,7 +122,7 @@ impl Model for InductionMotor {
     /// -179 /s holds the explicit solver at its stability limit (h = 19.5 ms, h lambda = -3.50),
     /// errors about 1400 x rtol of the activity's range; at 1e-11 within 1.4e-8 (472 solver
     /// steps against 307 at 1e-8).
-    fn tolerance_floor() -> Option<f64> {
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         Some(1e-11)
     }
 

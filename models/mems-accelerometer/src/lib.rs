@@ -341,7 +341,7 @@ impl Model for MemsAccelerometer {
     /// the mass, the beams, the capacitors and the sources are 0.0105 of their range off (10.5 x
     /// rtol: |p| rectifies the 24 kHz ringing after the step, and an error in its phase accumulates);
     /// at 1e-4 at most 8.3e-4, at 1e-5 2.6e-5, at 1e-8 7e-8; the displacement follows rtol within 3.2 x.
-    fn tolerance_floor() -> Option<f64> {
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         Some(1e-4)
     }
 

@@ -30,7 +30,10 @@ indicator <code>pi_torque_limit</code> switches the mode <code>pi_limit</code>, 
 torque is what that takes). The set point ramps from 0 to speed_setpoint in ramp_time (10 s), through a second-order filter
 (<code>setpoint_filter</code>: 0 off, 1 below (the book's, on by default), 2 above the 1.4 Hz resonance, Figure 3.13).
 In controlled starts the motor is converter-fed: level d's electrical dynamics are not used, the power drawn is
-the mechanical power and the current that of the machine at rated flux giving that torque.</li>
+the mechanical power and the current that of the machine at rated flux giving that torque.
+Co-Simulation tolerance floor: 1e-12 for the direct start, the imposed speed and the PI start without the actuator's lag; none for
+the PI start through the lag (a tighter tolerance there only lets round-off set the steps: give it the tolerance you want, e.g. 1e-8,
+rather than the DefaultExperiment's 1e-12, which is the direct start's).</li>
 <li><code>keep_shaft_stiffness</code> = false: a rigid shaft at levels c and d (the reduced model, Figure 3.10). It drops
 the element with the least activity among the storage elements of the controlled start: the shaft stiffness, 0.301 % of their
 activity with the PI start and 9.01 % direct-on-line (Table 3.3, level c, 30 s). What that costs in the peak shaft torque:

@@ -302,7 +302,7 @@ impl Model for ShaftLine {
     /// in the 700 V plateau, errors 1600-1900 x rtol of the activities' ranges; at 1e-11 within
     /// 1.5e-8 (the chapter text's 600 s run: 17 988 solver steps against 11 972 at 1e-8), 2.6e-9
     /// on the book file's 150 s run.
-    fn tolerance_floor() -> Option<f64> {
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         Some(1e-11)
     }
 

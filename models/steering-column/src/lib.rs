@@ -55,7 +55,7 @@ impl Model for SteeringColumn {
     /// built without the floor): the explicit solver rides the stability limit of the arm's
     /// 105 Hz mode, and the steering wheel's activity integrates the ripple: 3.7 x its range at
     /// rtol 1e-3, 0.14 x at 1e-4, 3.5e-4 at 1e-5 (35 x rtol), 9.3e-6 at 1e-6 (within 10 x).
-    fn tolerance_floor() -> Option<f64> {
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         Some(1e-6)
     }
 

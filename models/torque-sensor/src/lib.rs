@@ -693,7 +693,7 @@ impl Model for TorqueSensor {
     /// meet the rule without a floor (worst output i_rl_A: 1.4 x tol at 1e-3 and at 1e-8); the floor
     /// stays for the first set, which parameters still reach. At the floor the book's experiment is
     /// within 1.2e-9 of its range at every tolerance.
-    fn tolerance_floor() -> Option<f64> {
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         Some(1e-9)
     }
 

@@ -261,7 +261,7 @@ impl Model for TractionMotorThermal {
     /// state the explicit solver's step-size cycling leaves a ripple in dT/dt that the absolute
     /// value rectifies. At 1e-5 every output is within 4.5e-5 of its range (T_winding, 4.5 x rtol),
     /// and at 1e-6 within 3.9e-6. The default tolerance, 1e-8, is unaffected.
-    fn tolerance_floor() -> Option<f64> {
+    fn tolerance_floor(&self, _k: &Knowns) -> Option<f64> {
         Some(1e-5)
     }
 
