@@ -1,5 +1,8 @@
 //! Helpers for a model crate's unit tests that set values and states by name on the runtime's
-//! own stores (the energy-balance tests of MotorFan, TorqueSensor and TractionMotorThermal).
+//! own stores (the energy-balance tests of MotorFan, TorqueSensor and TractionMotorThermal), and
+//! the drive trains of any size the runtime's own tests and examples step (`chains`).
+
+pub mod chains;
 
 use crate::values::Values;
 use crate::variables::{Slot, VariableTable};

@@ -5,78 +5,13 @@
 //! choice of side), checked against the exact solution (the matrix exponential of the linear
 //! chain, computed here). Also: the explicit method through the same event, both sides; and an
 //! FMU state restored (serialized, into another instance) continues bit for bit with the
-//! implicit method's kept Jacobian, dense, band and sparse.
+//! implicit method's kept Jacobian, dense, band and sparse. The models: `fmu_runtime::testing::chains`.
 
 use fmu_runtime::instance::Instance;
 use fmu_runtime::log::Logger;
 use fmu_runtime::prelude::*;
 
-/// N inertias, N - 1 spring-dampers, a viscous load on the last one (2N - 1 states: the speeds
-/// w_1..w_N, then the twists theta_1..theta_{N-1}), driven by a torque step at `step_time` on
-/// the first; `AT_OR_AFTER`: the torque is on at `t >= step_time` (else at `t > step_time`);
-/// `IMPLICIT`: the solver. An input `load_torque` on the last inertia (0 by default).
-struct Chain<const N: usize, const AT_OR_AFTER: bool, const IMPLICIT: bool> {
-    inertia: Parameter,
-    stiffness: Parameter,
-    damping: Parameter,
-    load_coefficient: Parameter,
-    drive_torque: Parameter,
-    step_time: Parameter,
-    load_torque: Input,
-    speeds: Vec<State>,
-    twists: Vec<State>,
-}
-
-impl<const N: usize, const AT_OR_AFTER: bool, const IMPLICIT: bool> Model for Chain<N, AT_OR_AFTER, IMPLICIT> {
-    fn info() -> ModelInfo {
-        ModelInfo {
-            name: "Chain",
-            description: "a torsional chain",
-            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 0.3, step_size: 1e-3 },
-            solver: if IMPLICIT { Solver::ImplicitRungeKutta } else { Solver::ExplicitRungeKutta },
-            documentation: "",
-        }
-    }
-
-    fn declare(d: &mut Declarations) -> Self {
-        Chain {
-            inertia: d.parameter("J", 1.0, "kg.m2").positive().describe("inertia of each lump"),
-            stiffness: d.parameter("K", 1e4, "N.m/rad").min(0.0).describe("stiffness of each shaft"),
-            damping: d.parameter("D", 1.0, "N.m.s/rad").min(0.0).describe("damping of each shaft"),
-            load_coefficient: d.parameter("c_load", 1.0, "N.m.s/rad").min(0.0).describe("viscous load"),
-            drive_torque: d.parameter("drive_torque", 100.0, "N.m").describe("drive torque after step_time"),
-            step_time: d.parameter("step_time", 0.1, "s").describe("time of the torque step"),
-            load_torque: d.input("load_torque", 0.0, "N.m").describe("torque on the last inertia"),
-            speeds: (1..=N).map(|i| d.state(&format!("w_{i}"), 0.0, "rad/s").describe("speed")).collect(),
-            twists: (1..N).map(|i| d.state(&format!("theta_{i}"), 0.0, "rad").describe("twist")).collect(),
-        }
-    }
-
-    fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
-        (k[self.step_time] > after).then(|| k[self.step_time])
-    }
-
-    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
-        let step_time = k[self.step_time].value();
-        let on = if AT_OR_AFTER { k.time() >= step_time } else { k.time() > step_time };
-        let (j, stiffness, damping) = (k[self.inertia], k[self.stiffness], k[self.damping]);
-        let mut incoming = if on { k[self.drive_torque] } else { R::from(0.0) };
-        for i in 0..N {
-            let w = k[self.speeds[i]];
-            let outgoing = if i + 1 < N {
-                let rate = w - k[self.speeds[i + 1]];
-                der[self.twists[i]] = rate;
-                stiffness * k[self.twists[i]] + damping * rate
-            } else {
-                k[self.load_coefficient] * w + k[self.load_torque]
-            };
-            der[self.speeds[i]] = (incoming - outgoing) / j;
-            incoming = outgoing;
-        }
-    }
-
-    fn outputs<R: Real>(&self, _: &Knowns<R>, _: &mut Outputs<R>) {}
-}
+use fmu_runtime::testing::chains::{Chain, Star};
 
 const STIFF: [(&str, f64); 3] = [("J", 1e-4), ("K", 1e5), ("D", 10.0)];
 const STEP: f64 = 1e-3;
@@ -321,72 +256,6 @@ fn a_restored_state_continues_bit_for_bit_with_the_kept_jacobian_dense_and_spars
     restored_twins_agree::<Chain<40, true, true>>(79);
 }
 
-/// A hub inertia joined to K spoke inertias by spring-dampers (2K + 1 states: the speeds w_0 (the
-/// hub, driven by the torque step) .. w_K, then the twists theta_1 .. theta_K), each spoke with a
-/// viscous load: the hub's row and column are full, so no reordering makes the pattern a narrow
-/// band, and it is factorized by the sparse LU. The parameters and input of [`Chain`].
-struct Star<const K: usize> {
-    inertia: Parameter,
-    stiffness: Parameter,
-    damping: Parameter,
-    load_coefficient: Parameter,
-    drive_torque: Parameter,
-    step_time: Parameter,
-    load_torque: Input,
-    speeds: Vec<State>,
-    twists: Vec<State>,
-}
-
-/// The star's derivatives over plain slices (speeds w_0..w_K, then twists), for its pattern.
-fn star_derivatives<R: Real>(k: usize, x: &[R], (j, stiffness, damping, load): (R, R, R, R), drive: R, load_torque: R, dx: &mut [R]) {
-    let mut hub = drive;
-    for i in 1..=k {
-        let rate = x[0] - x[i];
-        let torque = stiffness * x[k + i] + damping * rate;
-        dx[k + i] = rate;
-        dx[i] = (torque - load * x[i] - load_torque) / j;
-        hub = hub - torque;
-    }
-    dx[0] = hub / j;
-}
-
-impl<const K: usize> Model for Star<K> {
-    fn info() -> ModelInfo {
-        ModelInfo { name: "Star", description: "a star of inertias", ..Chain::<2, true, true>::info() }
-    }
-
-    fn declare(d: &mut Declarations) -> Self {
-        Star {
-            inertia: d.parameter("J", 1.0, "kg.m2").positive().describe("inertia of each lump"),
-            stiffness: d.parameter("K", 1e4, "N.m/rad").min(0.0).describe("stiffness of each shaft"),
-            damping: d.parameter("D", 1.0, "N.m.s/rad").min(0.0).describe("damping of each shaft"),
-            load_coefficient: d.parameter("c_load", 1.0, "N.m.s/rad").min(0.0).describe("viscous load"),
-            drive_torque: d.parameter("drive_torque", 100.0, "N.m").describe("drive torque after step_time"),
-            step_time: d.parameter("step_time", 0.1, "s").describe("time of the torque step"),
-            load_torque: d.input("load_torque", 0.0, "N.m").describe("torque on each spoke"),
-            speeds: (0..=K).map(|i| d.state(&format!("w_{i}"), 0.0, "rad/s").describe("speed")).collect(),
-            twists: (1..=K).map(|i| d.state(&format!("theta_{i}"), 0.0, "rad").describe("twist")).collect(),
-        }
-    }
-
-    fn next_time_event(&self, k: &Knowns, after: f64) -> Option<f64> {
-        (k[self.step_time] > after).then(|| k[self.step_time])
-    }
-
-    fn derivatives<R: Real>(&self, k: &Knowns<R>, der: &mut Derivatives<R>) {
-        let drive = if k.time() >= k[self.step_time].value() { k[self.drive_torque] } else { R::from(0.0) };
-        let x: Vec<R> = self.speeds.iter().chain(&self.twists).map(|s| k[*s]).collect();
-        let mut dx = vec![R::from(0.0); x.len()];
-        let p = (k[self.inertia], k[self.stiffness], k[self.damping], k[self.load_coefficient]);
-        star_derivatives(K, &x, p, drive, k[self.load_torque], &mut dx);
-        for (s, v) in self.speeds.iter().chain(&self.twists).zip(dx) {
-            der[*s] = v;
-        }
-    }
-
-    fn outputs<R: Real>(&self, _: &Knowns<R>, _: &mut Outputs<R>) {}
-}
-
 /// The same twins on the band LU (the chain of 40 inertias) and on faer's sparse LU (the star of
 /// 20 spokes), each structure checked to be the one factorized that way.
 #[test]
@@ -405,7 +274,9 @@ fn a_restored_state_continues_bit_for_bit_with_the_kept_jacobian_band_and_sparse
     assert_eq!(Structure::sparse(79, chain_pattern(40)).unwrap().kind(), "band");
     restored_twins_agree::<Chain<40, true, true>>(79);
     const K: usize = 20;
-    let rhs = |x: &[f64], _t: f64, y: &mut [f64]| star_derivatives(K, x, (1e-4, 1e5, 10.0, 1.0), 0.0, 0.0, y);
+    let (star, _, table) = fmu_runtime::model::declare::<Star<K>>();
+    let v = table.start_values();
+    let rhs = |x: &[f64], t: f64, y: &mut [f64]| fmu_runtime::model::evaluate_derivatives(&star, t, &v.known, x, &v.integers, &v.booleans, y);
     let pattern = probe(&rhs, 0.0, &vec![0.0; 2 * K + 1], &vec![1.0; 2 * K + 1]);
     assert_eq!(Structure::sparse(2 * K + 1, pattern).unwrap().kind(), "sparse");
     restored_twins_agree::<Star<K>>(2 * K + 1);

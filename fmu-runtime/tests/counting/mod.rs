@@ -45,8 +45,18 @@ pub fn allocations() -> usize {
 /// An initialized Co-Simulation instance, with the given integer parameters set first.
 #[allow(dead_code)] // not every test binary drives an Instance directly
 pub fn initialized<M: Model>(integers: &[(&str, i32)]) -> Instance<M> {
+    initialized_with(integers, &[])
+}
+
+/// An initialized Co-Simulation instance, with the given integer and real parameters set first.
+#[allow(dead_code)] // not every test binary drives an Instance directly
+pub fn initialized_with<M: Model>(integers: &[(&str, i32)], reals: &[(&str, f64)]) -> Instance<M> {
     let mut i = Instance::<M>::new("{test}", Logger::silent());
     for (name, value) in integers {
+        let vr = i.table().by_name(name).unwrap_or_else(|| panic!("{name}")).value_reference;
+        i.set(&[vr], &[*value]).unwrap();
+    }
+    for (name, value) in reals {
         let vr = i.table().by_name(name).unwrap_or_else(|| panic!("{name}")).value_reference;
         i.set(&[vr], &[*value]).unwrap();
     }
