@@ -480,10 +480,14 @@ def machine() -> str:
             f"Python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, fmpy {fmpy.__version__}")
 
 
+KINDS = ("dense", "band", "sparse")  # FMU_RUNTIME_JACOBIAN's values
+
+
 def dense_or_sparse(args) -> None:
     """The stiff chain's us per doStep (1 s at 1 ms, default tolerance, median of --repeats) with
-    the Newton matrix dense and sparse, at each N of --dense-or-sparse: the measurement behind
-    fmu-runtime's `stepper::jacobian::DENSE_BELOW`. Prints a table and writes
+    the Newton matrix dense, as a band (the band LU, what the runtime picks for the chain from
+    DENSE_BELOW on) and sparse (faer's sparse LU), at each N of --dense-or-sparse: the measurement
+    behind fmu-runtime's `stepper::jacobian::DENSE_BELOW`. Prints a table and writes
     <out>/dense_or_sparse.md."""
     release = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release"
     src, tag = runtime_source(args.rev)
@@ -497,21 +501,22 @@ def dense_or_sparse(args) -> None:
             build(crate, release)
         fmu = crate / "dist" / "TorsionalChain.fmu"
         us = {}
-        for kind in ("dense", "sparse"):
+        for kind in KINDS:
             h = run_harness(release, fmu, out / "chain" / f"dense_or_sparse_n{n}_{kind}.json", dict(STIFF), None, args,
                             None, None, env={"FMU_RUNTIME_JACOBIAN": kind})
             if "error" in h:
                 sys.exit(f"N = {n}, {kind}: {h['error'][:300]}")
             us[kind] = h["us_per_step"]
-        rows.append((n, 2 * n - 1, us["dense"], us["sparse"]))
-        log(f"   N = {n} ({2 * n - 1} states): dense {us['dense']:.1f} us, sparse {us['sparse']:.1f} us per doStep")
+        rows.append((n, 2 * n - 1, us))
+        log(f"   N = {n} ({2 * n - 1} states): " + ", ".join(f"{k} {us[k]:.1f} us" for k in KINDS) + " per doStep")
     text = "\n".join([
         f"Stiff torsional chain (J = {STIFF['J']:g}, K = {STIFF['K']:g}, D = {STIFF['D']:g}), implicit method, default "
         f"tolerance, 1 ms doSteps over 1 s, median of {args.repeats}; commit {head}; {machine()}",
         "",
-        "| N | states | dense: us per doStep | sparse: us per doStep | sparse / dense |",
-        "| --- | --- | --- | --- | --- |",
-        *[f"| {n} | {m} | {d:.1f} | {s_:.1f} | {s_ / d:.2f} |" for n, m, d, s_ in rows],
+        "| N | states | dense: us per doStep | band: us per doStep | sparse: us per doStep | band / dense | sparse / dense |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+        *[f"| {n} | {m} | {u['dense']:.1f} | {u['band']:.1f} | {u['sparse']:.1f} | {u['band'] / u['dense']:.2f} | {u['sparse'] / u['dense']:.2f} |"
+          for n, m, u in rows],
         "",
     ])
     (out / "dense_or_sparse.md").write_text(text)
@@ -542,7 +547,7 @@ def main() -> None:
     ap.add_argument("--report-only", action="store_true", help="render chain.md again from an earlier run's chain.json")
     ap.add_argument("--dense-or-sparse", default=None, metavar="SIZES",
                     help="instead of the benchmark: the stiff chain's doStep at these N with the implicit method's Newton "
-                         "matrix dense and sparse (FMU_RUNTIME_JACOBIAN), for fmu-runtime's DENSE_BELOW, e.g. 3,5,8,10,15,25")
+                         "matrix dense, band and sparse (FMU_RUNTIME_JACOBIAN), for fmu-runtime's DENSE_BELOW, e.g. 3,5,8,10,15,25")
     args = ap.parse_args()
     if args.dense_or_sparse:
         dense_or_sparse(args)

@@ -250,8 +250,10 @@ fn restored_twins_agree<M: Model>(n_states: usize) {
 
 #[test]
 fn a_restored_state_continues_bit_for_bit_with_the_kept_jacobian_dense_and_sparse() {
-    // 2 x 10 - 1 = 19 states: dense; 2 x 40 - 1 = 79: not dense (a band, below).
+    // 2 x 3 - 1 = 5 states: dense (the band's rows, 7 entries, wider than the matrix); 2 x 10
+    // - 1 = 19: below DENSE_BELOW, a band; 79: a band (and below, sparse).
     assert!(19 < fmu_runtime::stepper::jacobian::DENSE_BELOW && 79 >= fmu_runtime::stepper::jacobian::DENSE_BELOW);
+    restored_twins_agree::<Chain<3, true, true>>(5);
     restored_twins_agree::<Chain<10, true, true>>(19);
     restored_twins_agree::<Chain<40, true, true>>(79);
 }

@@ -13,8 +13,10 @@
 //! Assembly ([`evaluate`]): exact, the equations evaluated over dual numbers once per color.
 //!
 //! Dense, band or sparse: below [`DENSE_BELOW`] states the Newton matrix is a dense n x n matrix
-//! (every column perturbed on its own, no probe, LU with partial pivoting); from there on, the
-//! probed pattern in compressed columns and no states x states matrix anywhere. A pattern denser
+//! (every column perturbed on its own, LU with partial pivoting) unless its pattern reordered is
+//! a band narrower than the matrix that the band LU's fast loops solve ([`Structure::small`]);
+//! from there on, the probed pattern in compressed columns and no states x states matrix
+//! anywhere. A pattern denser
 //! than [`DENSE_ABOVE_FILL`] falls back to dense. Otherwise the states are reordered by reverse
 //! Cuthill-McKee, and when the band that makes is narrow against what faer's sparse LU fills
 //! ([`BAND_BELOW_FILL_FAST`], [`BAND_BELOW_FILL`]), the matrix is factorized as a band
@@ -41,11 +43,12 @@ use faer::{Conj, MatMut, Par};
 use super::band;
 use crate::real::Dual;
 
-/// Dense below this many states, sparse from it on. Measured on the stiff torsional chain
-/// (bench/torsional-chain, J = 1e-4, K = 1e5, D = 10, a 100 N m torque step at 0.1 s; us per
-/// 1 ms doStep over 1 s at rtol 1e-8, through the C ABI, on the shared 2-core machine): see
-/// [`DENSE_BELOW_MEASURED`]. At 19 states both cost the same (3.9 and 3.8 us), at 29 sparse
-/// costs 0.77 of dense, at 99 0.39.
+/// Dense or band below this many states ([`Structure::small`]), faer's sparse LU allowed from it
+/// on. Measured on the stiff torsional chain (bench/torsional-chain, J = 1e-4, K = 1e5, D = 10,
+/// a 100 N m torque step at 0.1 s; us per 1 ms doStep over 1 s at rtol 1e-8, through the C ABI):
+/// see [`DENSE_BELOW_MEASURED`]. Sparse costs 0.95-1.01 of dense up to 19 states, 0.80 at 29
+/// and 0.41 at 99; the band 0.79 of dense at 9 states, 0.62 at 19 (1.12 at 5, where the band,
+/// 7 entries a row, is wider than the matrix).
 pub const DENSE_BELOW: usize = 20;
 
 /// A factorization forced for every size by the environment's `FMU_RUNTIME_JACOBIAN`, for the
@@ -80,12 +83,19 @@ pub fn dense_below() -> usize {
     }
 }
 
-/// The measurement behind [`DENSE_BELOW`]: (states, us per doStep dense, us per doStep sparse),
-/// `bench/run.sh --chain --dense-or-sparse 3,5,8,10,15,25,50` at commit 8f5563b (BENCHMARKS.md).
-/// Up to 15 states the chain's band fills more than [`DENSE_ABOVE_FILL`] of the matrix, so
-/// "sparse" is dense there too.
-pub const DENSE_BELOW_MEASURED: &[(usize, f64, f64)] =
-    &[(5, 1.0, 1.0), (9, 1.7, 1.7), (15, 2.9, 2.9), (19, 3.9, 3.8), (29, 7.6, 5.9), (49, 17.2, 11.0), (99, 64.1, 25.1)];
+/// The measurement behind [`DENSE_BELOW`] and [`Structure::small`]: (states, us per doStep
+/// dense, band, sparse), `bench/run.sh --chain --dense-or-sparse 3,5,8,10,15,25,50` at commit
+/// a7e3f0f on a quiet machine (BENCHMARKS.md). Up to 15 states the chain's pattern fills more
+/// than [`DENSE_ABOVE_FILL`] of the matrix, so "sparse" is dense there.
+pub const DENSE_BELOW_MEASURED: &[(usize, f64, f64, f64)] = &[
+    (5, 1.2, 1.3, 1.1),
+    (9, 2.0, 1.6, 2.0),
+    (15, 3.2, 2.0, 3.2),
+    (19, 4.0, 2.5, 3.8),
+    (29, 6.2, 3.0, 5.0),
+    (49, 12.4, 4.8, 7.9),
+    (99, 40.2, 9.2, 16.7),
+];
 
 /// A pattern is factorized as a band (reordered by reverse Cuthill-McKee) when the band LU's
 /// storage, n (2 kl + ku + 1) entries, is less than this many times the entries of faer's
@@ -157,6 +167,22 @@ impl Structure {
         let color_cols = (0..n).collect();
         let diagonal = (0..n).map(|j| j * n + j).collect();
         Structure { n, col_ptr, row_idx, color_ptr, color_cols, diagonal, layout: Layout::Dense, sparse_fill: None }
+    }
+
+    /// The structure of a model below [`DENSE_BELOW`] states from each column's rows: a band
+    /// where reverse Cuthill-McKee makes one that the band LU's fast loops solve ([`band::fast`])
+    /// and that is narrower than the matrix (2 kl + ku + 1 < n entries a row), else dense (also
+    /// when [`forced`] dense). Measured ([`DENSE_BELOW_MEASURED`]): the chain's band (kl = ku = 2)
+    /// costs 0.79 of dense at 9 states and 0.62 at 19, 1.12 at 5 states (a row of 7 > 5).
+    pub fn small(n: usize, columns: Vec<Vec<usize>>) -> Result<Structure, String> {
+        if n < 2 || forced() == Some(Forced::Dense) {
+            return Ok(Structure::dense(n));
+        }
+        let s = Structure::choose(n, columns, Some(Forced::Band))?;
+        Ok(match s.layout {
+            Layout::Band { kl, ku, .. } if band::fast(kl, ku) && 2 * kl + ku + 1 < n => s,
+            _ => Structure::dense(n),
+        })
     }
 
     /// A sparse structure from each column's rows (any order, the diagonal added): colored, and
@@ -441,17 +467,25 @@ pub fn probe(rhs: Rhs, t: f64, x: &[f64], scale: &[f64]) -> Vec<Vec<usize>> {
 /// The cached structures of this library (one model per library; a few configurations).
 static STRUCTURES: Mutex<Vec<(StructureKey, Arc<Structure>)>> = Mutex::new(Vec::new());
 
-/// The Jacobian's structure for `key`: dense below [`DENSE_BELOW`] states; else the cached one,
-/// or one made from `columns` (each state's dependent derivatives: [`probe`]) and cached. The one
-/// place that says where the dependencies come from.
-pub fn structure(key: &StructureKey, columns: impl FnOnce() -> Vec<Vec<usize>>) -> Result<Arc<Structure>, String> {
-    if key.n < dense_below() {
-        return Ok(Arc::new(Structure::dense(key.n)));
+/// The structure the implicit method factorizes for `n` states whose derivatives depend on the
+/// states as `columns` say: below [`dense_below`] states [`Structure::small`] (dense or a band),
+/// from there on [`Structure::sparse`] (dense, band or sparse).
+pub fn chosen(n: usize, columns: Vec<Vec<usize>>) -> Result<Structure, String> {
+    if n < dense_below() {
+        Structure::small(n, columns)
+    } else {
+        Structure::sparse(n, columns)
     }
+}
+
+/// The Jacobian's structure for `key`: the cached one, or the one [`chosen`] from `columns` (each
+/// state's dependent derivatives: [`probe`]) and cached. The one place that says where the
+/// dependencies come from.
+pub fn structure(key: &StructureKey, columns: impl FnOnce() -> Vec<Vec<usize>>) -> Result<Arc<Structure>, String> {
     if let Some((_, s)) = STRUCTURES.lock().unwrap_or_else(|e| e.into_inner()).iter().find(|(k, _)| k == key) {
         return Ok(Arc::clone(s));
     }
-    let made = Arc::new(Structure::sparse(key.n, columns())?);
+    let made = Arc::new(chosen(key.n, columns())?);
     let mut cache = STRUCTURES.lock().unwrap_or_else(|e| e.into_inner());
     if let Some((_, s)) = cache.iter().find(|(k, _)| k == key) {
         return Ok(Arc::clone(s));
