@@ -21,7 +21,7 @@ use diffsol::Tableau;
 /// Whether [`combine`] skips the terms of zero weight (as the stages' arguments always did: a
 /// zero weight then leaves even an infinite stage value out) or adds them (the error estimate).
 #[derive(Clone, Copy, PartialEq)]
-enum Zeros {
+pub(crate) enum Zeros {
     Skipped,
     Added,
 }
@@ -34,7 +34,7 @@ const BLOCK: usize = 16;
 /// out's length), each element summed in the order j = 0, 1, ..., so bit for bit what adding
 /// one stage at a time over the whole vector gives, in one pass over memory: each block of
 /// states is read once from each stage and written once.
-fn combine(out: &mut [f64], base: Option<&[f64]>, weights: &[f64], stages: &[f64], zeros: Zeros) {
+pub(crate) fn combine(out: &mut [f64], base: Option<&[f64]>, weights: &[f64], stages: &[f64], zeros: Zeros) {
     let n = out.len();
     let full = n - n % BLOCK;
     for start in (0..full).step_by(BLOCK) {

@@ -35,7 +35,8 @@
 
 use std::sync::Arc;
 
-use super::esdirk::Tableau;
+use super::esdirk::{self, Tableau};
+use crate::rk::{combine, Zeros};
 use super::jacobian::{self, Factors, Structure, StructureKey, Work};
 use super::{JacobianPoint, Method, Ode, Outcome, Registration, Setup, Stepper};
 
@@ -207,16 +208,13 @@ impl Esdirk {
         self.stages[..n].copy_from_slice(&self.f_end);
         let last = self.k.stages - 1;
         for i in 1..=last {
-            // psi = y + h sum_{j < i} a_ij k_j
-            self.psi.copy_from_slice(&self.y_end);
-            for j in 0..i {
-                let w = h * self.k.a[i][j];
-                if w != 0.0 {
-                    for (p, kj) in self.psi.iter_mut().zip(&self.stages[j * n..(j + 1) * n]) {
-                        *p += w * kj;
-                    }
-                }
+            // psi = y + h sum_{j < i} a_ij k_j, in one pass (`rk::combine`: the same bits as one
+            // stage at a time)
+            let mut w = [0.0; esdirk::MAX_STAGES];
+            for (wj, a) in w.iter_mut().zip(&self.k.a[i][..i]) {
+                *wj = h * a;
             }
+            combine(&mut self.psi, Some(&self.y_end), &w[..i], &self.stages[..i * n], Zeros::Skipped);
             let ti = if i == last { t_new } else { t + self.k.c[i] * h };
             if self.has_step {
                 // Start from the last step's interpolant, extrapolated.
@@ -284,13 +282,11 @@ impl Esdirk {
     /// The filtered error estimate's norm of the step of size `h` in `stages`, new state in `z`.
     fn error_norm(&mut self, h: f64) -> f64 {
         let n = self.n;
-        self.err.fill(0.0);
-        for j in 0..self.k.stages {
-            let w = h * self.k.d[j];
-            for (e, kj) in self.err.iter_mut().zip(&self.stages[j * n..(j + 1) * n]) {
-                *e += w * kj;
-            }
+        let mut w = [0.0; esdirk::MAX_STAGES];
+        for (wj, d) in w.iter_mut().zip(&self.k.d[..self.k.stages]) {
+            *wj = h * d;
         }
+        combine(&mut self.err, None, &w[..self.k.stages], &self.stages[..self.k.stages * n], Zeros::Added);
         if let (Some(s), Some(f)) = (self.structure.as_ref(), self.factors.as_mut()) {
             f.solve(s, &mut self.err);
         }
