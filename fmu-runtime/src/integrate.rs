@@ -14,18 +14,18 @@
 //! step too short to resolve is one Euler step), and `step_until` steps, looks for zero
 //! crossings and interpolates at the communication point.
 //!
-//! Lookahead (the explicit method, our own stepper [`crate::rk::Tsit`], diffsol's tsit45
-//! coefficients): while no known moves, a method that looks ahead steps past the communication
-//! point with its natural step size (not past `limit`: the next time event, a defined stop time)
-//! and interpolates the state there on its continuous extension; the next `advance` continues
-//! that step — by interpolation alone while its end lies beyond the next communication point —
-//! as long as it starts from exactly the point the last one reached and the parameter vector is
-//! the same (it is canonical: see `fill_parameters`). Otherwise it restarts. What a
-//! continuation depends on — the step and the parameter vector ([`Lookahead`]), the step size —
-//! goes into FMU states, so that a restored (or deserialized) state continues bit-identically.
-//! A method that does not look ahead (the implicit one, [`crate::stepper::implicit`]) stops at
-//! the communication point; what it keeps from one advance to the next (its Jacobian and the
-//! factors of its Newton matrix) goes into FMU states as the point it was evaluated at
+//! Lookahead (both methods: our explicit stepper [`crate::rk::Tsit`], diffsol's tsit45
+//! coefficients, and the implicit one, [`crate::stepper::implicit`]): while no known moves, a
+//! method that looks ahead steps past the communication point with its natural step size (not
+//! past `limit`: the next time event, a defined stop time) and interpolates the state there on
+//! its continuous extension; the next `advance` continues that step — by interpolation alone
+//! while its end lies beyond the next communication point — as long as it starts from exactly
+//! the point the last one reached and the parameter vector is the same (it is canonical: see
+//! `fill_parameters`). Otherwise it restarts. What a continuation depends on — the step and the
+//! parameter vector ([`Lookahead`]), the step size — goes into FMU states, so that a restored (or
+//! deserialized) state continues bit-identically. What the implicit method keeps from one advance
+//! to the next besides (its Jacobian and the factors of its Newton matrix, Newton's contraction
+//! estimate) goes into FMU states as the point the Jacobian was evaluated at
 //! ([`JacobianPoint`]), from which a restored instance makes it again. The instance keeps its
 //! own exact time.
 //!

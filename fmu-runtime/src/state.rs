@@ -25,7 +25,9 @@ pub const MAGIC: &[u8; 8] = b"FMURSST\0";
 /// shorter by the number of states.
 /// 7: the point the implicit solver's kept Jacobian was evaluated at (`jacobian`), and the time
 /// event the solver last ended at (`after_time_event`).
-pub const FORMAT_VERSION: u32 = 7;
+/// 8: the implicit solver's step reaching past the communication point too (`lookahead`, the
+/// same record with its stages), and Newton's contraction estimate with its Jacobian point.
+pub const FORMAT_VERSION: u32 = 8;
 
 /// The experiment the master set up (fmi2SetupExperiment; fmi3EnterInitializationMode).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -187,6 +189,7 @@ impl Snapshot {
         if let Some(j) = &self.jacobian {
             w.f64(j.t);
             w.f64(j.h_gamma);
+            w.f64(j.contraction);
             w.reals(&j.x);
             w.reals(&j.parameters);
         }
@@ -268,6 +271,7 @@ impl Snapshot {
             1 => Some(JacobianPoint {
                 t: r.f64()?,
                 h_gamma: r.f64()?,
+                contraction: r.f64()?,
                 x: r.reals("states at the solver's Jacobian point", shape.states)?,
                 parameters: r.reals("solver parameters of its Jacobian", parameters_len(shape.known))?,
             }),
@@ -275,8 +279,11 @@ impl Snapshot {
         };
         if let Some(j) = &jacobian {
             let finite = [j.t].iter().chain(&j.x).chain(&j.parameters).all(|v| v.is_finite());
-            if !(finite && j.h_gamma.is_finite() && j.h_gamma > 0.0) {
-                return Err(format!("the serialized FMU state's Jacobian point (t = {} s, h gamma = {}) is not finite", j.t, j.h_gamma));
+            if !(finite && j.h_gamma.is_finite() && j.h_gamma > 0.0 && j.contraction.is_finite() && j.contraction >= 0.0) {
+                return Err(format!(
+                    "the serialized FMU state's Jacobian point (t = {} s, h gamma = {}, contraction {}) is not finite",
+                    j.t, j.h_gamma, j.contraction
+                ));
             }
         }
         let after_time_event = r.opt()?;
@@ -426,7 +433,7 @@ mod tests {
                 },
                 parameters: vec![1.0, 2.0, -3.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             }),
-            jacobian: Some(JacobianPoint { t: 0.049, x: vec![3.95], parameters: vec![1.0, 2.0, -3.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], h_gamma: 2.1e-6 }),
+            jacobian: Some(JacobianPoint { t: 0.049, x: vec![3.95], parameters: vec![1.0, 2.0, -3.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], h_gamma: 2.1e-6, contraction: 3.2e-7 }),
             after_time_event: Some(0.05),
         }
     }
@@ -471,6 +478,10 @@ mod tests {
         s.jacobian.as_mut().unwrap().h_gamma = 0.0;
         let err = Snapshot::deserialize(&s.serialize("{guid}"), "{guid}", &shape()).unwrap_err();
         assert!(err.contains("Jacobian point"), "{err}");
+        let mut s = sample();
+        s.jacobian.as_mut().unwrap().contraction = f64::NAN;
+        let err = Snapshot::deserialize(&s.serialize("{guid}"), "{guid}", &shape()).unwrap_err();
+        assert!(err.contains("contraction NaN"), "{err}");
     }
 
     #[test]

@@ -14,24 +14,33 @@
 //!
 //! Each stage z_i = y + h sum_j a_ij k_j + h gamma k_i, k_i = f(t + c_i h, z_i) is solved with
 //! the Newton matrix I - h' gamma J, J evaluated at some earlier point and h' the step size it
-//! was factorized for: it is factorized again only when h gamma leaves [0.8, 1.25] times that
+//! was factorized for: it is factorized again only when h gamma leaves [1 / 1.15, 1.15] times that
 //! one, and J evaluated again only when Newton fails to converge with a J not evaluated at the
 //! step's start (then, with a fresh one, the step is cut). Newton starts from the last step's
-//! interpolant extrapolated to the stage's time, and stops when its predicted remaining error
-//! (from its contraction, no better than a matrix made for another h gamma allows) is below
-//! 3 % of the tolerance. The error estimate h sum d_j k_j is filtered through the same matrix,
-//! (I - h gamma J)^-1 (Shampine's filter), and measured in diffsol's norm (root mean square
-//! over atol + rtol max(|y|, |y_new|)).
+//! cubic Hermite interpolant extrapolated to the stage's time, and stops when its predicted
+//! remaining error (from its contraction, no better than a matrix made for another h gamma
+//! allows) is below 3 % of the tolerance. The error estimate h sum d_j k_j is filtered through
+//! the same matrix, (I - h gamma J)^-1 (Shampine's filter), and measured in diffsol's norm (root
+//! mean square over atol + rtol max(|y|, |y_new|)).
 //!
-//! It does not look ahead: every advance ends at its communication point, and the step before
-//! it is one of equal steps that reach it exactly (so the Newton matrix need not change for a
-//! last short step). An advance starts afresh from (t, x, f(t, x)) with the step size reached;
-//! the Jacobian and its factors carry over, and an FMU state carries the point they were made
-//! at ([`JacobianPoint`]), from which a restored instance makes them again bit for bit. A kept
-//! Jacobian is dropped when the solver's parameter vector (the knowns) changes.
+//! It looks ahead as the explicit method does ([`crate::integrate`]): while no known moves, it
+//! steps past the communication point with its own step size (up to the next time event or the
+//! stop time, the steps before which are made equal so that the Newton matrix need not change
+//! for a last short step), interpolates there on its dense output, and the next advance
+//! continues its last step (and Newton's contraction estimate). An advance that cannot continue
+//! starts afresh from (t, x, f(t, x)) with the step size reached. The Jacobian and its factors
+//! carry over either way; an FMU state carries the last step ([`StepRecord`]: its ends and
+//! stages) and the point the Jacobian was made at with the contraction estimate
+//! ([`JacobianPoint`]), from which a restored instance makes them again and continues bit for
+//! bit. A kept Jacobian is dropped when the solver's parameter vector (the knowns) changes.
+//! Stopping at every communication point made the stiff chain (N = 1 000, 1 ms doSteps) take a
+//! step per doStep long after its transient: 750 steps from 0.25 s to 1 s, where looking ahead
+//! takes 279 (of 0.8 to 10 ms; `examples/stiff_chain.rs`, BENCHMARKS.md).
 //!
-//! Its dense output (for the event indicators' zero crossings) is the cubic Hermite interpolant
-//! of the step's ends and their derivatives.
+//! Its dense output (at the communication points and for the event indicators' zero
+//! crossings) is of order 4, as its error estimate, and bounded on stiff components
+//! ([`Tableau::dense_weights`]); until issue 25's last part it was the cubic Hermite
+//! interpolant of the step's ends and their derivatives.
 
 use std::sync::Arc;
 
@@ -39,6 +48,7 @@ use super::esdirk::{self, Tableau};
 use crate::rk::{combine, Zeros};
 use super::jacobian::{self, Factors, Structure, StructureKey, Work};
 use super::{JacobianPoint, Method, Ode, Outcome, Registration, Setup, Stepper};
+use crate::rk::StepRecord;
 
 /// [`Solver::ImplicitRungeKutta`](crate::model::Solver::ImplicitRungeKutta).
 pub static ESDIRK: Registration = Registration {
@@ -54,16 +64,27 @@ const MAX_NEWTON: usize = 7;
 /// tolerance (the error norm's unit).
 const NEWTON_TOLERANCE: f64 = 0.03;
 /// The Newton matrix is kept while h gamma stays within this factor of the one it was made for.
-const REFACTOR_RATIO: f64 = 1.25;
+/// Measured on the stiff chain (N = 1 000, 1 s, `examples/stiff_chain.rs`), with KEEP_BELOW the
+/// same: 1.25 took 1 167 steps, 9 010 Newton iterations and 61 factorizations; 1.15 took 1 120,
+/// 7 845 and 85 (a factorization there costs about seven iterations); 1.1 took 1 095, 8 402 and
+/// 109.
+const REFACTOR_RATIO: f64 = 1.15;
 /// Step-size factors: at most 5 times larger, 5 times smaller after a rejection; a factor in
-/// [1, 1.25) keeps the step size (and so the Newton matrix); safety 0.9.
+/// [1, KEEP_BELOW) keeps the step size (and so the Newton matrix); safety 0.9.
 const MAX_FACTOR: f64 = 5.0;
 const MIN_FACTOR: f64 = 0.2;
-const KEEP_BELOW: f64 = 1.25;
+const KEEP_BELOW: f64 = 1.15;
 const SAFETY: f64 = 0.9;
 /// A step's size is cut to this after Newton failed with a Jacobian evaluated at its start.
 const NEWTON_FAILURE_FACTOR: f64 = 0.25;
 const MAX_REJECTIONS: usize = 40;
+/// Within this many steps of a limit (a time event, the stop time) the steps are made equal so
+/// as to reach it exactly. Equal steps to every limit, whatever its distance, stretched each
+/// step by up to 10 % (while the controller shrank it by its safety factor): the step size
+/// changed at every step after the stiff chain's torque step, each change within
+/// [`REFACTOR_RATIO`] costing Newton iterations against a matrix made for another h gamma
+/// (issue 25, measured with `examples/stiff_chain.rs`: 7 845 iterations against 8 043).
+const EQUAL_STEPS_TO_LIMIT: f64 = 3.0;
 const MIN_STEP: f64 = 1e-13;
 
 
@@ -174,7 +195,25 @@ impl Esdirk {
                 p.parameters.extend_from_slice(ode.p);
                 p.h_gamma = f64::NAN;
             }
-            None => self.jac_point = Some(JacobianPoint { t, x: y.to_vec(), parameters: ode.p.to_vec(), h_gamma: f64::NAN }),
+            None => self.jac_point = Some(JacobianPoint { t, x: y.to_vec(), parameters: ode.p.to_vec(), h_gamma: f64::NAN, contraction: 1.0 }),
+        }
+        Ok(())
+    }
+
+    /// Makes a restored state's Jacobian and Newton matrix again, and takes its contraction
+    /// estimate, when the knowns are those it was saved with; drops a kept Jacobian made with
+    /// other knowns.
+    fn restore_pending(&mut self, ode: &Ode) -> Result<(), String> {
+        if let Some(p) = self.pending.take() {
+            if same_bits(&p.parameters, ode.p) && p.h_gamma.is_finite() {
+                self.evaluate_jacobian(ode, p.t, &p.x)?;
+                self.factor(p.h_gamma)?;
+                self.eta = p.contraction;
+            } else {
+                self.jac_point = None;
+            }
+        } else if self.jac_point.as_ref().is_some_and(|p| !same_bits(&p.parameters, ode.p)) {
+            self.jac_point = None;
         }
         Ok(())
     }
@@ -207,6 +246,9 @@ impl Esdirk {
         let (t, hg) = (self.t_end, h * self.k.gamma);
         self.stages[..n].copy_from_slice(&self.f_end);
         let last = self.k.stages - 1;
+        // The contraction measured in earlier steps, made less optimistic once per step (as
+        // Hairer and Wanner's RADAU5 does once per step of all its stages: theta^0.8).
+        self.eta = self.eta.max(f64::EPSILON).powf(0.8);
         for i in 1..=last {
             // psi = y + h sum_{j < i} a_ij k_j, in one pass (`rk::combine`: the same bits as one
             // stage at a time)
@@ -241,10 +283,11 @@ impl Esdirk {
             (Some(s), Some(f)) => (s, f),
             _ => return Err(()),
         };
-        // The contraction expected from the last stages, but no better than a matrix made for
-        // another h gamma allows (|1 - hg / hg'| on a stiff linear component).
+        // The contraction expected from the last stages (made less optimistic once per step,
+        // [`Esdirk::stages`]), but no better than a matrix made for another h gamma allows
+        // (|1 - hg / hg'| on a stiff linear component).
         let mismatch = self.jac_point.as_ref().map_or(1.0, |p| (1.0 - hg / p.h_gamma).abs());
-        let mut eta = self.eta.max(f64::EPSILON).powf(0.8).max(mismatch / (1.0 - mismatch).max(f64::EPSILON));
+        let mut eta = self.eta.max(mismatch / (1.0 - mismatch).max(f64::EPSILON));
         let mut previous = f64::NAN;
         for m in 0..MAX_NEWTON {
             ode.rhs(&self.z, ti, &mut self.f);
@@ -309,14 +352,16 @@ impl Esdirk {
         let mut h = self.h;
         let mut rejections = 0;
         loop {
-            // A step within 10 % of the limit ends at it; otherwise the first attempt is one of
-            // equal steps (each at most 10 % longer than h) that reach it.
+            // A step within 10 % of the limit ends at it; within EQUAL_STEPS_TO_LIMIT steps of
+            // it, the first attempt is one of equal steps (each at most 10 % longer than h) that
+            // reach it. Further away the step size is the controller's, which stays the same
+            // while it would grow by less than KEEP_BELOW (so the Newton matrix stays too).
             let reaches = h * 1.1 >= remaining;
             if reaches {
                 h = remaining;
             } else if rejections == 0 && remaining.is_finite() {
                 let count = (remaining / (1.1 * h)).ceil();
-                if count < 1e6 {
+                if count <= EQUAL_STEPS_TO_LIMIT {
                     h = remaining / count;
                 }
             }
@@ -393,8 +438,46 @@ impl Method for Esdirk {
         advance(&mut Advancing { m: self, ode })
     }
 
+    /// The last step, with its stages (the dense output's), while the next advance would
+    /// continue it.
+    fn saved_step(&self) -> Option<StepRecord> {
+        self.has_step.then(|| StepRecord {
+            t_start: self.t_start,
+            t_end: self.t_end,
+            y_start: self.y_start.clone(),
+            y_end: self.y_end.clone(),
+            stages: self.stages.clone(),
+        })
+    }
+
+    /// Continues from a saved step: its ends, their derivatives (the first and the last stage:
+    /// the method is stiffly accurate) and its stages, with step size `h`.
+    fn resume(&mut self, step: &StepRecord, h: f64) -> bool {
+        let n = self.n;
+        if step.y_start.len() != n || step.y_end.len() != n || step.stages.len() != self.stages.len() {
+            return false;
+        }
+        self.t_start = step.t_start;
+        self.t_end = step.t_end;
+        self.y_start.copy_from_slice(&step.y_start);
+        self.y_end.copy_from_slice(&step.y_end);
+        self.stages.copy_from_slice(&step.stages);
+        self.f_start.copy_from_slice(&step.stages[..n]);
+        self.f_end.copy_from_slice(&step.stages[(self.k.stages - 1) * n..]);
+        self.has_step = true;
+        self.fresh = false;
+        self.h = h;
+        true
+    }
+
+    /// With Newton's contraction estimate, which the next advance starts from when it continues
+    /// the last step.
     fn saved_jacobian(&self) -> Option<JacobianPoint> {
-        self.pending.clone().or_else(|| self.jac_point.clone().filter(|p| p.h_gamma.is_finite()))
+        self.pending.clone().or_else(|| {
+            let mut p = self.jac_point.clone().filter(|p| p.h_gamma.is_finite())?;
+            p.contraction = self.eta;
+            Some(p)
+        })
     }
 
     /// A point of another size (not this model's) is ignored: the next advance evaluates afresh.
@@ -453,22 +536,12 @@ fn same_bits(a: &[f64], b: &[f64]) -> bool {
 
 impl Stepper for Advancing<'_> {
     fn looks_ahead(&self) -> bool {
-        false
+        true
     }
 
     fn start(&mut self, t: f64, x: &[f64], h: Option<f64>, _limit: f64) -> Result<(), String> {
         let (m, ode) = (&mut *self.m, &self.ode);
-        if let Some(p) = m.pending.take() {
-            // A restored state: the Jacobian it was saved with, when the knowns are the same.
-            if same_bits(&p.parameters, ode.p) && p.h_gamma.is_finite() {
-                m.evaluate_jacobian(ode, p.t, &p.x)?;
-                m.factor(p.h_gamma)?;
-            } else {
-                m.jac_point = None;
-            }
-        } else if m.jac_point.as_ref().is_some_and(|p| !same_bits(&p.parameters, ode.p)) {
-            m.jac_point = None;
-        }
+        m.restore_pending(ode)?;
         m.fresh = false;
         m.eta = 1.0;
         m.t_start = t;
@@ -484,6 +557,10 @@ impl Stepper for Advancing<'_> {
     }
 
     fn step(&mut self, limit: f64) -> Result<(), String> {
+        if self.m.pending.is_some() {
+            // A restored state continuing its step: no start.
+            self.m.restore_pending(&self.ode)?;
+        }
         self.m.step(&self.ode, limit).map_err(|e| format!("the ODE solver failed: {e}"))
     }
 
@@ -495,7 +572,7 @@ impl Stepper for Advancing<'_> {
         (self.m.t_start, self.m.t_end, &self.m.y_end)
     }
 
-    /// The cubic Hermite interpolant of the last step's ends and derivatives.
+    /// The dense output of the last step ([`Tableau::dense_weights`]), exact at its ends.
     fn interpolate(&self, t: f64, out: &mut [f64]) -> Result<(), String> {
         let m = &*self.m;
         if t == m.t_end {
@@ -506,7 +583,12 @@ impl Stepper for Advancing<'_> {
             out.copy_from_slice(&m.y_start);
             return Ok(());
         }
-        hermite(m.t_start, m.t_end, &m.y_start, &m.y_end, &m.f_start, &m.f_end, t, out);
+        let (h, s) = (m.t_end - m.t_start, m.k.stages);
+        let mut w = m.k.dense_weights((t - m.t_start) / h);
+        for wj in &mut w[..s] {
+            *wj *= h;
+        }
+        combine(out, Some(&m.y_start), &w[..s], &m.stages[..s * m.n], Zeros::Skipped);
         Ok(())
     }
 
@@ -517,5 +599,17 @@ impl Stepper for Advancing<'_> {
     /// A failed step leaves the step size as it was before the advance's last accepted step.
     fn keeps_step_size_on_failure(&self) -> bool {
         false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An FMU state holds a continued step's stages as `rk::STAGES` vectors, whichever method
+    /// made it (`state.rs`): the implicit method's tableau has as many.
+    #[test]
+    fn a_saved_step_has_as_many_stages_as_an_fmu_state_holds() {
+        assert_eq!(tableau().stages, crate::rk::STAGES);
     }
 }

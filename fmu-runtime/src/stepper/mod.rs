@@ -78,6 +78,9 @@ pub struct JacobianPoint {
     /// The solver's parameter vector (knowns and their motion) it was evaluated with.
     pub parameters: Vec<f64>,
     pub h_gamma: f64,
+    /// Newton's contraction estimate when the point was saved (the method iterates with it
+    /// when it continues its last step).
+    pub contraction: f64,
 }
 
 /// How an advance ended: how (reached or stopped at a crossing), and whether the next advance may
