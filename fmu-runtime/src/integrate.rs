@@ -49,7 +49,7 @@ use diffsol::{
 
 use crate::model::{Model, Solver};
 use crate::real::{Dual, Real};
-use crate::rk::StepRecord;
+use crate::rk::{same_bits, StepRecord};
 use crate::stepper::events::{step_until, Ends, Events, RootScratch};
 use crate::stepper::jacobian::StructureKey;
 use crate::stepper::{self, JacobianPoint, Method, Ode, Setup, Stepper};
@@ -274,11 +274,6 @@ fn fill_parameters(p: &mut Vec<f64>, known: &[f64], motion: &InputMotion) {
     }
     p.push(if moving { motion.since } else { 0.0 });
     p.push(if moving { 1.0 } else { 0.0 });
-}
-
-/// Equal bit for bit (a changed sign of zero counts as a change).
-fn same_bits(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// Calls `f` with the knowns at t from the parameter vector of `parameters`: extrapolated to t
@@ -702,8 +697,29 @@ fn euler(rhs: &RhsDyn, p: &[f64], quadrature: &[bool], t0: f64, x0: &[f64], t1: 
 }
 
 fn check_finite(x: &[f64], t: f64) -> Result<(), String> {
+    // Tested without an early exit (vector code), searched only when something is not finite.
+    if !x.iter().fold(false, |bad, v| bad | !v.is_finite()) {
+        return Ok(());
+    }
     match x.iter().position(|v| !v.is_finite()) {
         Some(i) => Err(format!("state {i} became {} at t = {t} s", x[i])),
         None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_finite;
+
+    /// The first state that is not finite is named, whichever way it is not.
+    #[test]
+    fn check_finite_names_the_first_state_that_is_not() {
+        assert!(check_finite(&[0.0, -1e308, f64::MIN_POSITIVE], 1.0).is_ok());
+        assert!(check_finite(&[], 1.0).is_ok());
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let x = [1.0, 2.0, bad, 3.0, f64::NAN];
+            let message = check_finite(&x, 0.5).unwrap_err();
+            assert_eq!(message, format!("state 2 became {bad} at t = 0.5 s"));
+        }
     }
 }

@@ -393,14 +393,8 @@ impl Tsit {
             // `error`, a stage's worth of scratch, then the norm in the states' order).
             let error = &mut self.error;
             combine(error, None, &k.d, trial, Zeros::Added);
-            let mut norm = 0.0;
-            for m in 0..n {
-                if self.quadrature[m] {
-                    continue;
-                }
-                let term = (h * error[m]) / (y[m].abs() * self.rtol + self.atol[m]);
-                norm += term * term;
-            }
+            let (quadrature, rtol, atol) = (&self.quadrature, self.rtol, &self.atol);
+            let mut norm = sum_of_squares(error, |m, e| if quadrature[m] { 0.0 } else { (h * e) / (y[m].abs() * rtol + atol[m]) });
             norm /= self.n_norm.max(1) as f64;
             let factor = if norm.is_finite() { (SAFETY * norm.powf(k.exponent)).clamp(MIN_FACTOR, MAX_FACTOR) } else { MIN_FACTOR };
             if norm < 1.0 {
@@ -467,9 +461,58 @@ impl Tsit {
     }
 }
 
+/// The sum of the squares of `term(m, v[m])`, in four interleaved partial sums added pairwise at
+/// the end: one running sum makes each term wait for the addition before it, and that chain of
+/// additions bounded the error norms of both methods on large models (at 1 999 states it was
+/// 15 % of the stiff chain's doStep, and most of the explicit step's own time). Deterministic:
+/// the same order for the same length.
+#[inline(always)]
+pub(crate) fn sum_of_squares(v: &[f64], term: impl Fn(usize, f64) -> f64) -> f64 {
+    let mut partial = [0.0; 4];
+    let whole = v.len() / 4 * 4;
+    for (c, chunk) in v[..whole].chunks_exact(4).enumerate() {
+        for (i, (p, x)) in partial.iter_mut().zip(chunk).enumerate() {
+            let e = term(4 * c + i, *x);
+            *p += e * e;
+        }
+    }
+    for (i, x) in v[whole..].iter().enumerate() {
+        let e = term(whole + i, *x);
+        partial[i] += e * e;
+    }
+    (partial[0] + partial[1]) + (partial[2] + partial[3])
+}
+
+/// Whether `a` and `b` hold the same numbers bit for bit (a NaN equal to itself, 0 not to -0),
+/// without an early exit, so that it compiles to vector compares.
+pub(crate) fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(0u64, |differ, (x, y)| differ | (x.to_bits() ^ y.to_bits())) == 0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Bit for bit: a NaN equals itself, 0 does not equal -0, lengths must agree.
+    #[test]
+    fn same_bits_compares_the_bits() {
+        assert!(same_bits(&[1.0, f64::NAN, -0.0], &[1.0, f64::NAN, -0.0]));
+        assert!(!same_bits(&[1.0, 0.0], &[1.0, -0.0]));
+        assert!(!same_bits(&[1.0, 2.0], &[1.0, 2.0 + f64::EPSILON * 2.0]));
+        assert!(!same_bits(&[1.0], &[1.0, 1.0]));
+        assert!(same_bits(&[], &[]));
+    }
+
+    /// Integers: every partial sum is exact, so any order gives the exact sum of squares
+    /// (lengths 0 to 9 cover the remainders of the four partial sums).
+    #[test]
+    fn sum_of_squares_is_the_exact_sum_on_integers() {
+        for len in 0..10 {
+            let v: Vec<f64> = (0..len).map(|m| m as f64 - 3.0).collect();
+            let exact: f64 = (0..len).map(|m| ((m as f64 - 3.0) * 2.0).powi(2)).sum();
+            assert_eq!(sum_of_squares(&v, |_, x| 2.0 * x), exact, "length {len}");
+        }
+    }
 
     fn oscillator(y: &[f64], _t: f64, dy: &mut [f64]) {
         dy[0] = y[1];

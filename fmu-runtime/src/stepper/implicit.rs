@@ -47,7 +47,7 @@
 use std::sync::Arc;
 
 use super::esdirk::{self, Tableau};
-use crate::rk::{combine, Zeros};
+use crate::rk::{combine, same_bits, sum_of_squares, Zeros};
 use super::jacobian::{self, Factors, Structure, StructureKey, Work};
 use super::{JacobianPoint, Method, Ode, Outcome, Registration, Setup, Stepper};
 use crate::rk::StepRecord;
@@ -509,27 +509,6 @@ impl Method for Esdirk {
     }
 }
 
-/// The sum of the squares of `term(m, v[m])`, in four interleaved partial sums added pairwise at
-/// the end: one running sum would make each term wait for the addition before it (at 1 999
-/// states this sum was 15 % of the stiff chain's doStep; with four, one addition chain no longer
-/// bounds it). Deterministic: the same order for the same length.
-#[inline(always)]
-fn sum_of_squares(v: &[f64], term: impl Fn(usize, f64) -> f64) -> f64 {
-    let mut partial = [0.0; 4];
-    let whole = v.len() / 4 * 4;
-    for (c, chunk) in v[..whole].chunks_exact(4).enumerate() {
-        for (i, (p, x)) in partial.iter_mut().zip(chunk).enumerate() {
-            let e = term(4 * c + i, *x);
-            *p += e * e;
-        }
-    }
-    for (i, x) in v[whole..].iter().enumerate() {
-        let e = term(whole + i, *x);
-        partial[i] += e * e;
-    }
-    (partial[0] + partial[1]) + (partial[2] + partial[3])
-}
-
 /// The cubic Hermite interpolant at `t` of a step [t0, t1] from its ends y0, y1 and their
 /// derivatives f0, f1 (also outside the step: an extrapolation).
 #[allow(clippy::too_many_arguments)]
@@ -548,11 +527,6 @@ fn hermite(t0: f64, t1: f64, y0: &[f64], y1: &[f64], f0: &[f64], f1: &[f64], t: 
 struct Advancing<'a> {
     m: &'a mut Esdirk,
     ode: Ode<'a>,
-}
-
-/// Equal bit for bit.
-fn same_bits(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 impl Stepper for Advancing<'_> {
