@@ -4,8 +4,9 @@
 //! algebra without building an FMU. Prints the wall-clock time per doStep (median of the repeats).
 //!
 //! `cargo run --release -p fmu-runtime --example stiff_chain -- N [repeats]`, N one of 100, 1000,
-//! 10000 (inertias; 2N - 1 states). Run it with flush-to-zero set in the process (the chain's
-//! resting end otherwise decays through subnormal numbers, which dominate the timing).
+//! 10000 (inertias; 2N - 1 states). It steps with subnormal numbers flushed to zero, as an FMU's
+//! calls do (the chain's resting end otherwise decays through subnormal numbers, which dominate
+//! the timing: 615 against 180 us per doStep at N = 1 000).
 
 use fmu_runtime::instance::Instance;
 use fmu_runtime::log::Logger;
@@ -21,6 +22,7 @@ fn cpu_seconds() -> f64 {
 
 /// Seconds per doStep of one run, and the last speed of the first inertia.
 fn run<const N: usize>() -> (f64, f64) {
+    let _flushed = fmu_runtime::float_mode::FlushSubnormals::enter();
     let mut i = Instance::<StiffChain<N>>::new("{chain}", Logger::silent());
     for (name, value) in [("J", 1e-4), ("K", 1e5), ("D", 10.0)] {
         let r = i.table().by_name(name).unwrap().value_reference;
