@@ -393,8 +393,20 @@ impl Tsit {
             // `error`, a stage's worth of scratch, then the norm in the states' order).
             let error = &mut self.error;
             combine(error, None, &k.d, trial, Zeros::Added);
-            let (quadrature, rtol, atol) = (&self.quadrature, self.rtol, &self.atol);
-            let mut norm = sum_of_squares(error, |m, e| if quadrature[m] { 0.0 } else { (h * e) / (y[m].abs() * rtol + atol[m]) });
+            // One running sum, in the states' order, unlike the implicit method's four partial
+            // sums (`sum_of_squares`): at 1 999 states the chain of additions is about 4 % of the
+            // explicit chain's doStep, but four partial sums change the last bits of every
+            // chapter FMU's run, and SteeringColumn's activity at rtol 1e-6 (a quadrature,
+            // outside the error control) sits at 9.3e-6 of its range against the accuracy test's
+            // bound of 1e-5: with four partial sums it went to 1.07e-5 (issue 25, BENCHMARKS.md).
+            let mut norm = 0.0;
+            for m in 0..n {
+                if self.quadrature[m] {
+                    continue;
+                }
+                let term = (h * error[m]) / (y[m].abs() * self.rtol + self.atol[m]);
+                norm += term * term;
+            }
             norm /= self.n_norm.max(1) as f64;
             let factor = if norm.is_finite() { (SAFETY * norm.powf(k.exponent)).clamp(MIN_FACTOR, MAX_FACTOR) } else { MIN_FACTOR };
             if norm < 1.0 {
@@ -462,10 +474,9 @@ impl Tsit {
 }
 
 /// The sum of the squares of `term(m, v[m])`, in four interleaved partial sums added pairwise at
-/// the end: one running sum makes each term wait for the addition before it, and that chain of
-/// additions bounded the error norms of both methods on large models (at 1 999 states it was
-/// 15 % of the stiff chain's doStep, and most of the explicit step's own time). Deterministic:
-/// the same order for the same length.
+/// the end: one running sum makes each term wait for the addition before it (at 1 999 states that
+/// chain was 15 % of the stiff chain's doStep). The implicit method's norms; the explicit one
+/// keeps its running sum ([`Tsit::step`]). Deterministic: the same order for the same length.
 #[inline(always)]
 pub(crate) fn sum_of_squares(v: &[f64], term: impl Fn(usize, f64) -> f64) -> f64 {
     let mut partial = [0.0; 4];
