@@ -394,11 +394,12 @@ impl Tsit {
             let error = &mut self.error;
             combine(error, None, &k.d, trial, Zeros::Added);
             // One running sum, in the states' order, unlike the implicit method's four partial
-            // sums (`sum_of_squares`): at 1 999 states the chain of additions is about 4 % of the
-            // explicit chain's doStep, but four partial sums change the last bits of every
-            // chapter FMU's run, and SteeringColumn's activity at rtol 1e-6 (a quadrature,
-            // outside the error control) sits at 9.3e-6 of its range against the accuracy test's
-            // bound of 1e-5: with four partial sums it went to 1.07e-5 (issue 25, BENCHMARKS.md).
+            // sums (`sum_of_squares`). At 1 999 states both took the same time per explicit
+            // doStep, within the spread of alternating runs. Four partial sums change the last
+            // bits of every chapter FMU's run, and SteeringColumn's activity at rtol 1e-6 (a
+            // quadrature, outside the error control) sits at 9.3e-6 of its range against the
+            // accuracy test's bound of 1e-5: with four partial sums it went to 1.07e-5 (issue 25,
+            // BENCHMARKS.md).
             let mut norm = 0.0;
             for m in 0..n {
                 if self.quadrature[m] {
