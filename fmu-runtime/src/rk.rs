@@ -416,25 +416,11 @@ impl Tsit {
             }
             // The error estimate h sum d_j k_j, in diffsol's norm: the mean of squares of each
             // component over rtol |y| + atol at the step's start (the sums sum_j d_j k_j into
-            // `error`, a stage's worth of scratch, then the norm in the states' order).
+            // `error`, a stage's worth of scratch, then the norm: [`error_sum_of_squares`]).
             let error = &mut self.error;
             combine(error, None, &k.d, trial, Zeros::Added);
-            // One running sum, in the states' order, unlike the implicit method's four partial
-            // sums (`sum_of_squares`). At 1 999 states both took the same time per explicit
-            // doStep, within the spread of alternating runs. Four partial sums change the last
-            // bits of every chapter FMU's run, and SteeringColumn's activity at rtol 1e-6 (a
-            // quadrature, outside the error control) sits at 9.3e-6 of its range against the
-            // accuracy test's bound of 1e-5: with four partial sums it went to 1.07e-5 (issue 25,
-            // BENCHMARKS.md).
-            let mut norm = 0.0;
-            for m in 0..n {
-                if self.quadrature[m] {
-                    continue;
-                }
-                let term = (h * error[m]) / (y[m].abs() * self.rtol + self.atol[m]);
-                norm += term * term;
-            }
-            norm /= self.n_norm.max(1) as f64;
+            let norm = error_sum_of_squares(h, self.rtol, error, y, &self.atol, &self.quadrature);
+            let norm = norm / self.n_norm.max(1) as f64;
             let factor = if norm.is_finite() { (SAFETY * norm.powf(k.exponent)).clamp(MIN_FACTOR, MAX_FACTOR) } else { MIN_FACTOR };
             if norm < 1.0 {
                 // y_stage holds the last stage's argument: y + h sum b_j k_j, the new state.
@@ -521,6 +507,76 @@ pub(crate) fn sum_of_squares(v: &[f64], term: impl Fn(usize, f64) -> f64) -> f64
     (partial[0] + partial[1]) + (partial[2] + partial[3])
 }
 
+/// The sum over the states (quadratures left out) of (h e_m / (rtol |y_m| + atol_m))^2, the
+/// explicit method's squared error norm before its mean.
+///
+/// Below [`FUSED_FROM`] states one running sum in the states' order, as the chapter's FMUs have
+/// always been summed: SteeringColumn's activity at rtol 1e-6 (a quadrature, outside the error
+/// control) sits at 9.3e-6 of its range against the accuracy test's bound of 1e-5, and four
+/// partial sums moved it to 1.07e-5 (issue 25, BENCHMARKS.md). From [`FUSED_FROM`] states on,
+/// the four partial sums of [`sum_of_squares`] (the implicit method's), with the divisions in
+/// vector registers (AVX where the processor has it: the same bits as without): one running sum
+/// makes each term wait for the addition before it.
+fn error_sum_of_squares(h: f64, rtol: f64, error: &[f64], y: &[f64], atol: &[f64], quadrature: &[bool]) -> f64 {
+    let n = error.len();
+    if n < FUSED_FROM {
+        let mut sum = 0.0;
+        for m in 0..n {
+            if quadrature[m] {
+                continue;
+            }
+            let term = (h * error[m]) / (y[m].abs() * rtol + atol[m]);
+            sum += term * term;
+        }
+        return sum;
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the processor and the operating system support AVX (checked just above).
+        return unsafe { error_sum_of_squares_avx(h, rtol, error, y, atol, quadrature) };
+    }
+    error_sum_in_four(h, rtol, error, y, atol, quadrature)
+}
+
+/// [`error_sum_in_four`] compiled for AVX.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn error_sum_of_squares_avx(h: f64, rtol: f64, error: &[f64], y: &[f64], atol: &[f64], quadrature: &[bool]) -> f64 {
+    error_sum_in_four(h, rtol, error, y, atol, quadrature)
+}
+
+/// The error's sum of squares in the four partial sums of [`sum_of_squares`] (the same order);
+/// a quadrature adds 0. Written four states at a time, so that the divisions go in one vector
+/// instruction.
+#[inline(always)]
+fn error_sum_in_four(h: f64, rtol: f64, error: &[f64], y: &[f64], atol: &[f64], quadrature: &[bool]) -> f64 {
+    let n = error.len();
+    let whole = n / 4 * 4;
+    let (y, atol, quadrature) = (&y[..n], &atol[..n], &quadrature[..n]);
+    let square = |m: usize| {
+        let term = (h * error[m]) / (y[m].abs() * rtol + atol[m]);
+        if quadrature[m] {
+            0.0
+        } else {
+            term * term
+        }
+    };
+    let mut partial = [0.0; 4];
+    for (((e, yc), ac), qc) in error[..whole].chunks_exact(4).zip(y[..whole].chunks_exact(4)).zip(atol[..whole].chunks_exact(4)).zip(quadrature[..whole].chunks_exact(4)) {
+        let mut terms = [0.0; 4];
+        for i in 0..4 {
+            terms[i] = (h * e[i]) / (yc[i].abs() * rtol + ac[i]);
+        }
+        for i in 0..4 {
+            partial[i] += if qc[i] { 0.0 } else { terms[i] * terms[i] };
+        }
+    }
+    for m in whole..n {
+        partial[m - whole] += square(m);
+    }
+    (partial[0] + partial[1]) + (partial[2] + partial[3])
+}
+
 /// Whether `a` and `b` hold the same numbers bit for bit (a NaN equal to itself, 0 not to -0),
 /// without an early exit, so that it compiles to vector compares.
 pub(crate) fn same_bits(a: &[f64], b: &[f64]) -> bool {
@@ -585,6 +641,40 @@ mod tests {
                         assert!(same_bits(&out, &expected), "AVX blocks, n = {n}");
                     }
                 }
+            }
+        }
+    }
+
+    /// The explicit norm's sum: exact on integers at every size (quadratures left out even where
+    /// their term is not finite), and from 64 states on the same bits with AVX as without.
+    #[test]
+    fn the_explicit_error_sum_leaves_quadratures_out_and_is_the_same_with_avx() {
+        for n in [1, 5, 63, 64, 65, 66, 67, 1000, 1999] {
+            // h = 1, rtol 0, atol 1: each term is the error itself, an integer.
+            let error: Vec<f64> = (0..n).map(|m| (m % 17) as f64 - 8.0).collect();
+            let quadrature: Vec<bool> = (0..n).map(|m| m % 5 == 3).collect();
+            let mut with_infinite = error.clone();
+            for (e, q) in with_infinite.iter_mut().zip(&quadrature) {
+                if *q {
+                    *e = f64::INFINITY;
+                }
+            }
+            let exact: f64 = error.iter().zip(&quadrature).filter(|(_, q)| !**q).map(|(e, _)| e * e).sum();
+            let (y, atol) = (vec![3.0; n], vec![1.0; n]);
+            assert_eq!(error_sum_of_squares(1.0, 0.0, &with_infinite, &y, &atol, &quadrature), exact, "n = {n}");
+            // Numbers whose sum rounds: AVX and the baseline agree bit for bit.
+            let error: Vec<f64> = (0..n).map(|m| ((m * 7919 % 1013) as f64 - 506.0) * 10f64.powi((m % 23) as i32 - 11)).collect();
+            let y: Vec<f64> = (0..n).map(|m| (m as f64 * 0.37).sin() * 50.0).collect();
+            let atol: Vec<f64> = (0..n).map(|m| 1e-9 * (1.0 + (m % 3) as f64)).collect();
+            let baseline = error_sum_in_four(1e-3, 1e-8, &error, &y, &atol, &quadrature);
+            if n >= FUSED_FROM {
+                assert_eq!(error_sum_of_squares(1e-3, 1e-8, &error, &y, &atol, &quadrature).to_bits(), baseline.to_bits(), "n = {n}");
+            }
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx") {
+                // SAFETY: the processor has AVX.
+                let avx = unsafe { error_sum_of_squares_avx(1e-3, 1e-8, &error, &y, &atol, &quadrature) };
+                assert_eq!(avx.to_bits(), baseline.to_bits(), "n = {n}");
             }
         }
     }
