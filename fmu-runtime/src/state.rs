@@ -281,7 +281,8 @@ impl Snapshot {
             let finite = [j.t].iter().chain(&j.x).chain(&j.parameters).all(|v| v.is_finite());
             if !(finite && j.h_gamma.is_finite() && j.h_gamma > 0.0 && j.contraction.is_finite() && j.contraction >= 0.0) {
                 return Err(format!(
-                    "the serialized FMU state's Jacobian point (t = {} s, h gamma = {}, contraction {}) is not finite",
+                    "the serialized FMU state's Jacobian point (t = {} s, h gamma = {}, contraction {}) is not usable: \
+                     its time, states and parameters must be finite, h gamma finite and positive, the contraction finite and not negative",
                     j.t, j.h_gamma, j.contraction
                 ));
             }
@@ -473,15 +474,17 @@ mod tests {
     }
 
     #[test]
-    fn a_jacobian_point_that_is_not_finite_is_refused() {
+    fn a_jacobian_point_that_is_not_usable_is_refused() {
         let mut s = sample();
         s.jacobian.as_mut().unwrap().h_gamma = 0.0;
         let err = Snapshot::deserialize(&s.serialize("{guid}"), "{guid}", &shape()).unwrap_err();
-        assert!(err.contains("Jacobian point"), "{err}");
-        let mut s = sample();
-        s.jacobian.as_mut().unwrap().contraction = f64::NAN;
-        let err = Snapshot::deserialize(&s.serialize("{guid}"), "{guid}", &shape()).unwrap_err();
-        assert!(err.contains("contraction NaN"), "{err}");
+        assert!(err.contains("Jacobian point") && err.contains("h gamma = 0,") && err.contains("not usable"), "{err}");
+        for bad in [f64::NAN, -0.5] {
+            let mut s = sample();
+            s.jacobian.as_mut().unwrap().contraction = bad;
+            let err = Snapshot::deserialize(&s.serialize("{guid}"), "{guid}", &shape()).unwrap_err();
+            assert!(err.contains(&format!("contraction {bad})")) && err.contains("not negative"), "{err}");
+        }
     }
 
     #[test]
