@@ -53,6 +53,7 @@ pub mod fmi3;
 pub mod instance;
 pub mod integrate;
 pub mod rk;
+pub mod simd;
 pub mod log;
 pub mod model;
 pub mod phase;

@@ -62,7 +62,7 @@ pub(crate) fn combine(out: &mut [f64], base: Option<&[f64]>, weights: &[f64], st
         return;
     }
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
+    if crate::simd::avx() {
         // SAFETY: the processor and the operating system support AVX (checked just above).
         unsafe { combine_blocks_avx(out, base, weights, stages, zeros) };
         return;
@@ -531,7 +531,7 @@ fn error_sum_of_squares(h: f64, rtol: f64, error: &[f64], y: &[f64], atol: &[f64
         return sum;
     }
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
+    if crate::simd::avx() {
         // SAFETY: the processor and the operating system support AVX (checked just above).
         return unsafe { error_sum_of_squares_avx(h, rtol, error, y, atol, quadrature) };
     }

@@ -22,15 +22,7 @@ fn vr<M: Model>(i: &Instance<M>, name: &str) -> u32 {
 
 /// An initialized instance with these real parameters, at the default tolerance.
 fn chain<M: Model>(parameters: &[(&str, f64)]) -> Instance<M> {
-    let mut i = Instance::<M>::new("{chain}", Logger::silent());
-    for (name, value) in parameters {
-        let r = vr(&i, name);
-        i.set(&[r], &[*value]).unwrap();
-    }
-    i.setup_experiment(None, 0.0, None).unwrap();
-    i.enter_initialization_mode().unwrap();
-    i.exit_initialization_mode().unwrap();
-    i
+    fmu_runtime::testing::chains::initialized(parameters)
 }
 
 /// The states (speeds, then twists) after each 1 ms doStep up to `stop`.
