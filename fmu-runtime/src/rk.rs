@@ -42,8 +42,26 @@ const FUSED_FROM: usize = 64;
 /// out = base + sum_j weights[j] k_j (base 0 where None; k_j = `stages[j n..(j + 1) n]`, n =
 /// out's length), each element summed in the order j = 0, 1, ..., so bit for bit what adding
 /// one stage at a time over the whole vector gives, in one pass over memory: each block of
-/// states is read once from each stage and written once.
+/// states is read once from each stage and written once. From [`FUSED_FROM`] states on in AVX
+/// where the processor has it (the explicit method's sums; [`combine_baseline`] for the
+/// implicit method's).
 pub(crate) fn combine(out: &mut [f64], base: Option<&[f64]>, weights: &[f64], stages: &[f64], zeros: Zeros) {
+    #[cfg(target_arch = "x86_64")]
+    if out.len() >= FUSED_FROM && crate::simd::avx() {
+        // SAFETY: the processor and the operating system support AVX (checked just above).
+        unsafe { combine_blocks_avx(out, base, weights, stages, zeros) };
+        return;
+    }
+    combine_baseline(out, base, weights, stages, zeros);
+}
+
+/// [`combine`] in x86_64's baseline only, whatever the processor: the implicit method's sums.
+/// Its doStep goes mostly to the band solves, one unknown after another; with its stage loops in
+/// AVX as well, the stiff chain took 155.0 against 156.2 us per doStep at N = 1 000 and 3 542
+/// against 3 519 us at N = 10 000 (`examples/stiff_chain.rs`, AVX and baseline alternating in one
+/// process), and in-process builds of the code with and without AVX in its sums alone took
+/// 3 564-3 618 against 3 418-3 457 us at N = 10 000 (issue 25, BENCHMARKS.md).
+pub(crate) fn combine_baseline(out: &mut [f64], base: Option<&[f64]>, weights: &[f64], stages: &[f64], zeros: Zeros) {
     let n = out.len();
     if n < FUSED_FROM {
         // One pass per stage over a vector that stays in registers and L1 anyway.
@@ -59,12 +77,6 @@ pub(crate) fn combine(out: &mut [f64], base: Option<&[f64]>, weights: &[f64], st
                 *o += w * k;
             }
         }
-        return;
-    }
-    #[cfg(target_arch = "x86_64")]
-    if crate::simd::avx() {
-        // SAFETY: the processor and the operating system support AVX (checked just above).
-        unsafe { combine_blocks_avx(out, base, weights, stages, zeros) };
         return;
     }
     combine_blocks::<BLOCK>(out, base, weights, stages, zeros);

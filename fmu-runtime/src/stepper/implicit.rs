@@ -47,7 +47,7 @@
 use std::sync::Arc;
 
 use super::esdirk::{self, Tableau};
-use crate::rk::{combine, same_bits, sum_of_squares, Zeros};
+use crate::rk::{combine_baseline as combine, same_bits, sum_of_squares, Zeros};
 use super::jacobian::{self, Factors, Structure, StructureKey, Work};
 use super::{JacobianPoint, Method, Ode, Outcome, Registration, Setup, Stepper};
 use crate::rk::StepRecord;
@@ -259,26 +259,6 @@ impl Esdirk {
     /// stage's time, exactly); Err(()) when Newton does not converge. On success `z` holds the
     /// new state.
     fn stages(&mut self, ode: &Ode, h: f64, t_new: f64) -> Result<(), ()> {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx() {
-            // SAFETY: the processor and the operating system support AVX (checked just above).
-            return unsafe { self.stages_avx(ode, h, t_new) };
-        }
-        self.stages_in(ode, h, t_new)
-    }
-
-    /// [`Esdirk::stages`] compiled for AVX, Newton's loops with it: the same operations in the
-    /// same order (AVX has no fused multiply-add), so the same bits, on twice the states per
-    /// instruction.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn stages_avx(&mut self, ode: &Ode, h: f64, t_new: f64) -> Result<(), ()> {
-        self.stages_in(ode, h, t_new)
-    }
-
-    /// The body of [`Esdirk::stages`].
-    #[inline(always)]
-    fn stages_in(&mut self, ode: &Ode, h: f64, t_new: f64) -> Result<(), ()> {
         let n = self.n;
         let (t, hg) = (self.t_end, h * self.k.gamma);
         self.stages[..n].copy_from_slice(&self.f_end);
@@ -315,7 +295,6 @@ impl Esdirk {
 
     /// Solves z = psi + hg f(ti, z) from the guess in `z` (simplified Newton with the kept
     /// factors), to NEWTON_TOLERANCE of the error norm.
-    #[inline(always)]
     fn newton(&mut self, ode: &Ode, ti: f64, hg: f64) -> Result<(), ()> {
         let (s, factors) = match (self.structure.as_ref(), self.factors.as_mut()) {
             (Some(s), Some(f)) => (s, f),
@@ -533,7 +512,6 @@ impl Method for Esdirk {
 /// The cubic Hermite interpolant at `t` of a step [t0, t1] from its ends y0, y1 and their
 /// derivatives f0, f1 (also outside the step: an extrapolation).
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
 fn hermite(t0: f64, t1: f64, y0: &[f64], y1: &[f64], f0: &[f64], f1: &[f64], t: f64, out: &mut [f64]) {
     let dt = t1 - t0;
     let theta = (t - t0) / dt;
