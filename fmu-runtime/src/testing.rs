@@ -1,11 +1,34 @@
 //! Helpers for a model crate's unit tests that set values and states by name on the runtime's
 //! own stores (the energy-balance tests of MotorFan, TorqueSensor and TractionMotorThermal), and
-//! the drive trains of any size the runtime's own tests and examples step (`chains`).
+//! the drive trains of any size the runtime's own tests and examples step (`chains`), and an
+//! instance set up and initialized by name for the runtime's integration tests.
 
 pub mod chains;
 
+use crate::instance::Instance;
+use crate::log::Logger;
 use crate::values::Values;
 use crate::variables::{Slot, VariableTable};
+use crate::Model;
+
+/// A Co-Simulation instance of `M` out of initialization (no logger, start time 0, the default
+/// tolerance), with the given integer and real parameters set by name first.
+pub fn initialized_with<M: Model>(integers: &[(&str, i32)], reals: &[(&str, f64)]) -> Instance<M> {
+    let mut i = Instance::<M>::new("{test}", Logger::silent());
+    let vr = |i: &Instance<M>, name: &str| i.table().by_name(name).unwrap_or_else(|| panic!("{name}")).value_reference;
+    for (name, value) in integers {
+        let r = vr(&i, name);
+        i.set(&[r], &[*value]).unwrap();
+    }
+    for (name, value) in reals {
+        let r = vr(&i, name);
+        i.set(&[r], &[*value]).unwrap();
+    }
+    i.setup_experiment(None, 0.0, None).unwrap();
+    i.enter_initialization_mode().unwrap();
+    i.exit_initialization_mode().unwrap();
+    i
+}
 
 /// Sets a known real, state, integer or boolean by its FMI name (a nonzero `value` is true).
 pub fn set(table: &VariableTable, values: &mut Values, name: &str, value: f64) {

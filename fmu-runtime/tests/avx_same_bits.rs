@@ -7,7 +7,8 @@
 
 use fmu_runtime::instance::Instance;
 use fmu_runtime::prelude::*;
-use fmu_runtime::testing::chains::{initialized, Chain};
+use fmu_runtime::testing::chains::Chain;
+use fmu_runtime::testing::initialized_with;
 
 const N: usize = 100;
 const STEP: f64 = 1e-3;
@@ -19,7 +20,7 @@ fn vr<M: Model>(i: &Instance<M>, name: &str) -> u32 {
 /// The bits of every state after each doStep over 0.2 s (the torque steps on at 0.01 s), the
 /// instance's FMU state saved at 0.1 s and restored into a fresh instance that goes on.
 fn run<M: Model>(parameters: &[(&str, f64)]) -> Vec<u64> {
-    let make = || initialized::<M>(parameters);
+    let make = || initialized_with::<M>(&[], parameters);
     let mut i = make();
     let vrs: Vec<u32> = (1..=N).map(|k| vr(&i, &format!("w_{k}"))).chain((1..N).map(|k| vr(&i, &format!("theta_{k}")))).collect();
     let mut bits = Vec::new();

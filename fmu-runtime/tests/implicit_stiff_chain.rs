@@ -22,7 +22,7 @@ fn vr<M: Model>(i: &Instance<M>, name: &str) -> u32 {
 
 /// An initialized instance with these real parameters, at the default tolerance.
 fn chain<M: Model>(parameters: &[(&str, f64)]) -> Instance<M> {
-    fmu_runtime::testing::chains::initialized(parameters)
+    fmu_runtime::testing::initialized_with(&[], parameters)
 }
 
 /// The states (speeds, then twists) after each 1 ms doStep up to `stop`.

@@ -5,26 +5,10 @@
 //! pattern one that no reordering narrows to a band. The equations are written without the
 //! components crate, which depends on this one.
 
-use crate::instance::Instance;
-use crate::log::Logger;
 use crate::model::{DefaultExperiment, Model, ModelInfo, Solver};
 use crate::real::Real;
 use crate::values::{Derivatives, Knowns, Outputs};
 use crate::variables::{Declarations, Input, Parameter, State};
-
-/// An instance of `M` out of initialization (no logger, start time 0, the default tolerance)
-/// with these real parameters set by name.
-pub fn initialized<M: Model>(parameters: &[(&str, f64)]) -> Instance<M> {
-    let mut i = Instance::<M>::new("{chain}", Logger::silent());
-    for (name, value) in parameters {
-        let r = i.table().by_name(name).unwrap_or_else(|| panic!("{name}")).value_reference;
-        i.set(&[r], &[*value]).unwrap();
-    }
-    i.setup_experiment(None, 0.0, None).unwrap();
-    i.enter_initialization_mode().unwrap();
-    i.exit_initialization_mode().unwrap();
-    i
-}
 
 /// The parameters and the input the chain and the star share.
 struct Lumps {

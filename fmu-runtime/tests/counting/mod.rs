@@ -6,7 +6,6 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
 use fmu_runtime::instance::Instance;
-use fmu_runtime::log::Logger;
 use fmu_runtime::Model;
 
 struct Counting;
@@ -48,23 +47,8 @@ pub fn initialized<M: Model>(integers: &[(&str, i32)]) -> Instance<M> {
     initialized_with(integers, &[])
 }
 
-/// An initialized Co-Simulation instance, with the given integer and real parameters set first.
-#[allow(dead_code)] // not every test binary drives an Instance directly
-pub fn initialized_with<M: Model>(integers: &[(&str, i32)], reals: &[(&str, f64)]) -> Instance<M> {
-    let mut i = Instance::<M>::new("{test}", Logger::silent());
-    for (name, value) in integers {
-        let vr = i.table().by_name(name).unwrap_or_else(|| panic!("{name}")).value_reference;
-        i.set(&[vr], &[*value]).unwrap();
-    }
-    for (name, value) in reals {
-        let vr = i.table().by_name(name).unwrap_or_else(|| panic!("{name}")).value_reference;
-        i.set(&[vr], &[*value]).unwrap();
-    }
-    i.setup_experiment(None, 0.0, None).unwrap();
-    i.enter_initialization_mode().unwrap();
-    i.exit_initialization_mode().unwrap();
-    i
-}
+#[allow(unused_imports)] // not every test binary drives an Instance directly
+pub use fmu_runtime::testing::initialized_with;
 
 /// Allocations in `steps` doSteps of `h` after `warm_up` of them.
 #[allow(dead_code)] // not every test binary drives an Instance directly
